@@ -1,0 +1,81 @@
+//! `sdfc compile`: a scene to validated WGSL, or a stage of the IR with `--emit`.
+
+use crate::{read_source, report, Outcome};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene file (.sdf)
+    scene: PathBuf,
+    /// Where to write the WGSL (stdout if absent)
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Only the scene functions, no entry point, for use in your own shaders
+    #[arg(long)]
+    lib: bool,
+    /// With --lib: add a naga_oil `#define_import_path NAME` line
+    #[arg(long, value_name = "NAME", requires = "lib")]
+    import_path: Option<String>,
+    /// What to print: the WGSL, or a stage of the compiler for inspection
+    #[arg(long, value_enum, default_value_t = Emit::Wgsl)]
+    emit: Emit,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Emit {
+    /// The validated WGSL module
+    Wgsl,
+    /// The parsed syntax tree
+    Ast,
+    /// The scene as lowered, before optimisation
+    Ir,
+    /// The optimised shapes and scalar functions
+    OptIr,
+}
+
+pub fn run(a: Args) -> Outcome {
+    let path = a.scene.display().to_string();
+    let source = match read_source(&a.scene) {
+        Ok(s) => s,
+        Err(o) => return o,
+    };
+    let opts = sdfc_wgsl::Options { lib: a.lib, import_path: a.import_path.clone() };
+    let text = if let Emit::Ast = a.emit {
+        match sdfc_syntax::parse(&source) {
+            Ok(f) => sdfc_syntax::pretty::dump(&f),
+            Err(d) => return report::failure(&path, &source, &sdfc_wgsl::Failure::Diagnostics(d)),
+        }
+    } else {
+        let compiled = match sdfc_wgsl::compile(&source, &opts) {
+            Ok(c) => c,
+            Err(f) => return report::failure(&path, &source, &f),
+        };
+        report::diagnostics(&path, &source, &compiled.warnings);
+        match a.emit {
+            Emit::Wgsl => compiled.wgsl,
+            Emit::Ir => sdfc_ir::dump::scene_text(&compiled.stages.lowered),
+            _ => {
+                let p = compiled.program();
+                format!(
+                    "{}\n{}\n{}",
+                    sdfc_ir::dump::scene_text(&p.scene),
+                    sdfc_ir::dump::func_text(&p.distance),
+                    sdfc_ir::dump::func_text(&p.material)
+                )
+            }
+        }
+    };
+    match &a.output {
+        Some(out) => match std::fs::write(out, text) {
+            Ok(()) => Outcome::Ok,
+            Err(e) => {
+                eprintln!("sdfc: cannot write {}: {e}", out.display());
+                Outcome::EnvError
+            }
+        },
+        None => {
+            print!("{text}");
+            Outcome::Ok
+        }
+    }
+}

@@ -1,0 +1,86 @@
+//! `sdfc`: compile, check, and evaluate signed-distance scenes (see `shared/spec/cli.md`).
+//! Exit status: 0 success, 1 a problem in the user's input, 2 usage or environment.
+
+mod check;
+mod compile;
+mod eval;
+mod report;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "sdfc", version, about = "Compiles signed-distance-function scenes to specialised WGSL")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compile a scene to validated WGSL (stdout without -o)
+    Compile(compile::Args),
+    /// Compile and validate .sdf files, validate .wgsl files; one line per file
+    Check(check::Args),
+    /// Print the scene distance at each x,y,z line of a CSV file (f64 reference evaluator)
+    Eval(eval::Args),
+}
+
+/// The outcome of a command, mapped to the exit statuses of the CLI contract.
+pub enum Outcome {
+    Ok,
+    /// A problem in the user's input (diagnostics already printed).
+    InputError,
+    /// Usage or environment problem (message already printed).
+    EnvError,
+}
+
+fn main() -> ExitCode {
+    // A bug must never show a Rust backtrace to a user: report it in one line instead.
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("sdfc: internal error: {info}");
+        eprintln!("This is a bug in sdfc; please report it with the input that caused it.");
+    }));
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    let outcome = std::panic::catch_unwind(|| match cli.command {
+        Command::Compile(a) => compile::run(a),
+        Command::Check(a) => check::run(a),
+        Command::Eval(a) => eval::run(a),
+    });
+    match outcome {
+        Ok(Outcome::Ok) => ExitCode::SUCCESS,
+        Ok(Outcome::InputError) => ExitCode::from(1),
+        Ok(Outcome::EnvError) | Err(_) => ExitCode::from(2),
+    }
+}
+
+/// Reads a scene file; an unreadable file or invalid UTF-8 is reported here.
+pub fn read_source(path: &PathBuf) -> Result<String, Outcome> {
+    match std::fs::read(path) {
+        Ok(bytes) => match String::from_utf8(bytes) {
+            Ok(s) => Ok(s),
+            Err(e) => {
+                let offset = e.utf8_error().valid_up_to();
+                let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+                let (line, col) = sdfc_syntax::diag::line_col(&text, offset);
+                eprintln!(
+                    "error: {} is not valid UTF-8 ({}:{line}:{col})\n  = hint: save the file as UTF-8",
+                    path.display(),
+                    path.display()
+                );
+                Err(Outcome::InputError)
+            }
+        },
+        Err(e) => {
+            eprintln!("sdfc: cannot read {}: {e}", path.display());
+            Err(Outcome::EnvError)
+        }
+    }
+}

@@ -1,0 +1,73 @@
+//! The sdfc IR: lowering of the AST to a scene of shapes over a hash-consed value DAG,
+//! shape-level transform merging, the scalar SSA functions `scene_distance` and
+//! `scene_material`, their optimisation passes, and an evaluator (f32 for folding, f64 as
+//! the reference). No I/O; never panics on user input.
+
+pub mod dump;
+pub mod eval;
+pub mod func;
+pub mod graph;
+mod hash;
+pub mod lower;
+pub mod ops;
+pub mod passes;
+pub mod scene;
+pub mod shape;
+pub mod to_ssa;
+pub mod types;
+pub mod value;
+
+use func::Func;
+use scene::Scene;
+use sdfc_syntax::ast::File;
+use sdfc_syntax::diag::Diagnostic;
+
+/// Everything the back end needs: the optimised scene and its two functions.
+#[derive(Clone, Debug)]
+pub struct Program {
+    /// The scene after the shape-level passes (settings, materials, params, lights, camera).
+    pub scene: Scene,
+    pub distance: Func,
+    pub material: Func,
+}
+
+/// The IR at each stage, for golden tests and `--emit`.
+pub struct Stages {
+    /// As lowered, before any pass.
+    pub lowered: Scene,
+    pub program: Program,
+}
+
+/// Lowers and optimises a parsed file. Returns the stages, or the diagnostics; warnings are
+/// returned in both cases.
+pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnostic>) {
+    let lowered = lower::lower(file, source_len);
+    let mut diags = lowered.diagnostics;
+    let Some(scene) = lowered.scene else {
+        return (None, diags);
+    };
+    let merged = passes::merge::run(&scene);
+    let (distance, e1) = passes::optimise(&to_ssa::distance_function(&merged));
+    let (material, e2) = passes::optimise(&to_ssa::material_function(&merged));
+    let mut seen = Vec::new();
+    for (span, msg) in e1.into_iter().chain(e2) {
+        if !seen.contains(&span) {
+            seen.push(span);
+            diags.push(
+                Diagnostic::error(span, "a constant expression is not finite")
+                    .with_label(msg)
+                    .with_hint("check for a division by zero, the root or log of a negative number, or an overflow"),
+            );
+        }
+    }
+    for f in [&distance, &material] {
+        if let Some(what) = &f.graph.ill_typed {
+            diags.push(Diagnostic::error(Default::default(), format!("internal compiler error: ill-typed IR in {}: {what}", f.name)));
+        }
+    }
+    if diags.iter().any(|d| d.is_error()) {
+        return (None, diags);
+    }
+    let program = Program { scene: merged, distance, material };
+    (Some(Stages { lowered: scene, program }), diags)
+}

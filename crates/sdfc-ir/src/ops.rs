@@ -1,0 +1,180 @@
+//! The operations of the scalar SSA level: arithmetic, WGSL built-ins and distance helpers.
+
+use crate::value::Const;
+
+/// One operation of the expression DAG. Arguments live in the node, not here, so that
+/// `(Op, args)` is the hash-consing key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Op {
+    Const(Const),
+    /// The point a function is evaluated at (`p: vec3<f32>`).
+    Point,
+    /// A runtime `param`, by index; its type is the node's.
+    Param(u16),
+    /// Seconds, from the frame uniform.
+    Time,
+    /// A lambda's parameter, replaced by a real value when the lambda is applied.
+    LambdaArg { lambda: u32, index: u8 },
+    Neg,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    /// Floored modulo, `a - b * floor(a / b)`, as GLSL `mod`.
+    Mod,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+    /// `[if_false, if_true, cond]`, as WGSL `select`.
+    Select,
+    Builtin(Builtin),
+    /// Builds a vector from scalars (2 to 4 arguments).
+    MakeVec,
+    Swizzle(Swizzle),
+    /// A 3x3 matrix from three column vectors.
+    MakeMat3,
+    /// `mat * mat` or `mat * vec`, by the argument types.
+    MatMul,
+    Transpose,
+    Helper(Helper),
+}
+
+/// Component selection, `.x` to `.zyx`; `idx[..len]` are the components.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Swizzle {
+    pub len: u8,
+    pub idx: [u8; 4],
+}
+
+impl Swizzle {
+    pub fn new(idx: &[u8]) -> Swizzle {
+        let mut a = [0u8; 4];
+        a[..idx.len()].copy_from_slice(idx);
+        Swizzle {
+            len: idx.len() as u8,
+            idx: a,
+        }
+    }
+
+    pub fn indices(&self) -> &[u8] {
+        &self.idx[..self.len as usize]
+    }
+
+    /// `xzy`-style letters.
+    pub fn letters(&self) -> String {
+        self.indices()
+            .iter()
+            .map(|&i| ['x', 'y', 'z', 'w'][i as usize])
+            .collect()
+    }
+}
+
+macro_rules! builtins {
+    ($($variant:ident => $name:literal, $arity:literal;)*) => {
+        /// WGSL built-in functions, with their WGSL meaning.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Builtin { $($variant),* }
+
+        impl Builtin {
+            /// Every built-in, for lookups and suggestions.
+            pub const ALL: &'static [Builtin] = &[$(Builtin::$variant),*];
+
+            /// The WGSL (and scene-language) name.
+            pub fn name(self) -> &'static str {
+                match self { $(Builtin::$variant => $name),* }
+            }
+
+            pub fn arity(self) -> usize {
+                match self { $(Builtin::$variant => $arity),* }
+            }
+        }
+    };
+}
+
+builtins! {
+    Abs => "abs", 1;
+    Sign => "sign", 1;
+    Floor => "floor", 1;
+    Ceil => "ceil", 1;
+    Fract => "fract", 1;
+    Round => "round", 1;
+    Sqrt => "sqrt", 1;
+    Pow => "pow", 2;
+    Exp => "exp", 1;
+    Log => "log", 1;
+    Sin => "sin", 1;
+    Cos => "cos", 1;
+    Tan => "tan", 1;
+    Asin => "asin", 1;
+    Acos => "acos", 1;
+    Atan => "atan", 1;
+    Atan2 => "atan2", 2;
+    Min => "min", 2;
+    Max => "max", 2;
+    Clamp => "clamp", 3;
+    Mix => "mix", 3;
+    Step => "step", 2;
+    Smoothstep => "smoothstep", 3;
+    Length => "length", 1;
+    Distance => "distance", 2;
+    Dot => "dot", 2;
+    Cross => "cross", 2;
+    Normalize => "normalize", 1;
+    Radians => "radians", 1;
+    Degrees => "degrees", 1;
+}
+
+impl Builtin {
+    pub fn from_name(name: &str) -> Option<Builtin> {
+        Builtin::ALL.iter().copied().find(|b| b.name() == name)
+    }
+
+    /// Built-ins that reduce a vector to a scalar.
+    pub fn is_reduction(self) -> bool {
+        matches!(self, Builtin::Length | Builtin::Distance | Builtin::Dot)
+    }
+}
+
+/// Hand-written WGSL distance helpers (in `shaders/`); the evaluator mirrors each one.
+/// Sizes here are the helpers' own conventions (half extents), converted when lowering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Helper {
+    /// `(p, r)`
+    SdSphere,
+    /// `(p, half_size)`
+    SdBox,
+    /// `(p, half_size, r)`: half_size already shrunk by r.
+    SdRoundBox,
+    /// `(p, major, minor)`
+    SdTorus,
+    /// `(p, r, half_height)`
+    SdCylinder,
+    /// `(p, a, b, r)`
+    SdCapsule,
+}
+
+impl Helper {
+    pub const ALL: &'static [Helper] = &[
+        Helper::SdSphere,
+        Helper::SdBox,
+        Helper::SdRoundBox,
+        Helper::SdTorus,
+        Helper::SdCylinder,
+        Helper::SdCapsule,
+    ];
+
+    /// The WGSL function name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Helper::SdSphere => "sd_sphere",
+            Helper::SdBox => "sd_box",
+            Helper::SdRoundBox => "sd_round_box",
+            Helper::SdTorus => "sd_torus",
+            Helper::SdCylinder => "sd_cylinder",
+            Helper::SdCapsule => "sd_capsule",
+        }
+    }
+}

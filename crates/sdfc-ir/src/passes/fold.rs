@@ -1,0 +1,75 @@
+//! Constant folding with f32 semantics: a node whose arguments are all constants becomes the
+//! constant the GPU would compute (`+ - * /` and `sqrt` are IEEE f32, correctly rounded; the
+//! transcendental functions are computed in f64 and rounded once, at least as accurate as any
+//! GPU). A result that is not finite is an error at the node's span.
+
+use super::{copy, rebuild};
+use crate::eval;
+use crate::func::Func;
+use crate::graph::{Graph, NodeId};
+use crate::hash::FxHashMap;
+use crate::ops::Op;
+use crate::value::Value;
+use sdfc_syntax::span::Span;
+
+pub fn run(f: &Func) -> (Func, Vec<(Span, String)>) {
+    let mut errors = Vec::new();
+    let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
+        if let Some(v) = fold_one(out, node.op, node.ty, args) {
+            if v.all_finite() {
+                return out.konst(v);
+            }
+            errors.push((f.graph.span(id), "this constant expression is not finite (infinity or NaN)".to_string()));
+        }
+        copy(out, &f.graph, id, node, args)
+    });
+    (Func { graph, results, ..f.clone() }, errors)
+}
+
+/// The folded value of `op` on `args` if every argument is a constant and `op` is pure.
+pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Option<Value<f32>> {
+    if matches!(op, Op::Const(_) | Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. }) {
+        return None;
+    }
+    let vals: Option<Vec<Value<f32>>> = args.iter().map(|a| g.as_const(*a)).collect();
+    Some(eval::apply(op, ty, &vals?))
+}
+
+/// Adds a node, folding it at once when its arguments are constants (used by passes that
+/// build new arithmetic, such as transform merging).
+pub fn add_folded(g: &mut Graph, op: Op, args: &[NodeId]) -> NodeId {
+    let n = g.op(op, args);
+    let node = *g.node(n);
+    match fold_one(g, node.op, node.ty, node.args()) {
+        Some(v) if v.all_finite() => g.konst(v),
+        _ => n,
+    }
+}
+
+/// The value of a node that depends on constants only, memoised.
+pub fn const_value(g: &Graph, id: NodeId, memo: &mut FxHashMap<NodeId, Option<Value<f32>>>) -> Option<Value<f32>> {
+    if let Some(v) = memo.get(&id) {
+        return *v;
+    }
+    let node = *g.node(id);
+    let out = match node.op {
+        Op::Const(c) => Some(c.to_value()),
+        Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } => None,
+        op => {
+            let mut args = Vec::new();
+            let mut all = true;
+            for a in node.args() {
+                match const_value(g, *a, memo) {
+                    Some(v) => args.push(v),
+                    None => {
+                        all = false;
+                        break;
+                    }
+                }
+            }
+            all.then(|| eval::apply(op, node.ty, &args))
+        }
+    };
+    memo.insert(id, out);
+    out
+}

@@ -1,0 +1,143 @@
+//! The shape level of the IR: primitives, combinations, point maps and materials, with
+//! their numeric arguments as nodes of the scene's value graph.
+
+use crate::graph::NodeId;
+use sdfc_syntax::span::Span;
+
+/// Index of a shape node in [`crate::scene::Scene::shapes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ShapeId(pub u32);
+
+impl ShapeId {
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// The primitives, with their arguments as the language takes them (full sizes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Prim {
+    /// `[r]`
+    Sphere,
+    /// `[size: vec3]`
+    Box,
+    /// `[size: vec3, r]`
+    RoundBox,
+    /// `[unit normal: vec3, h]`
+    Plane,
+    /// `[R, r]`
+    Torus,
+    /// `[r, h]`
+    Cylinder,
+    /// `[a: vec3, b: vec3, r]`
+    Capsule,
+}
+
+impl Prim {
+    pub fn name(self) -> &'static str {
+        match self {
+            Prim::Sphere => "sphere",
+            Prim::Box => "box",
+            Prim::RoundBox => "round_box",
+            Prim::Plane => "plane",
+            Prim::Torus => "torus",
+            Prim::Cylinder => "cylinder",
+            Prim::Capsule => "capsule",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CombineOp {
+    Union,
+    Intersect,
+    /// First child minus the rest.
+    Subtract,
+    Xor,
+}
+
+impl CombineOp {
+    pub fn name(self) -> &'static str {
+        match self {
+            CombineOp::Union => "union",
+            CombineOp::Intersect => "intersect",
+            CombineOp::Subtract => "subtract",
+            CombineOp::Xor => "xor",
+        }
+    }
+}
+
+/// How a node maps the point before its child sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PointMap {
+    /// `local = (m * p + o) / s`, and the child's distance is multiplied by `s`
+    /// (rigid motions and uniform scale; `None` is the identity part).
+    Affine {
+        m: Option<NodeId>,
+        o: Option<NodeId>,
+        s: Option<NodeId>,
+    },
+    /// `p[axis] = abs(p[axis])`.
+    Mirror(u8),
+    /// Infinite repetition; a zero period component leaves that axis alone.
+    Repeat { period: [f32; 3] },
+    /// `count[i]` copies along each axis, centred on the origin.
+    RepeatLimited { period: [f32; 3], count: [u32; 3] },
+    /// iq's elongation by `h` (vec3): `p - clamp(p, -h, h)`.
+    Elongate(NodeId),
+}
+
+/// How a node changes its child's distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DistMod {
+    /// `d - r`
+    Round(NodeId),
+    /// `abs(d) - t`
+    Onion(NodeId),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShapeKind {
+    Prim {
+        prim: Prim,
+        args: Vec<NodeId>,
+    },
+    /// `sdf(|p| body, lipschitz: L)`: the body uses `LambdaArg { lambda, 0 }` as its point.
+    Sdf {
+        body: NodeId,
+        lambda: u32,
+        lipschitz: NodeId,
+    },
+    /// `displace(child, |p| body, lipschitz: L)`: `(d + body(p)) / L`, with `L` the declared
+    /// bound of the displaced distance.
+    Displace {
+        child: ShapeId,
+        body: NodeId,
+        lambda: u32,
+        lipschitz: NodeId,
+    },
+    Combine {
+        op: CombineOp,
+        smooth: Option<NodeId>,
+        children: Vec<ShapeId>,
+    },
+    Map {
+        map: PointMap,
+        child: ShapeId,
+    },
+    Modify {
+        modifier: DistMod,
+        child: ShapeId,
+    },
+    /// The child's parts that have no material of their own get material `material`.
+    Material {
+        material: u32,
+        child: ShapeId,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeNode {
+    pub kind: ShapeKind,
+    pub span: Span,
+}

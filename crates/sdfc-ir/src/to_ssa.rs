@@ -1,0 +1,382 @@
+//! Lowers the shape tree to the scalar SSA functions `scene_distance(p)` and
+//! `scene_material(p)`: point maps become arithmetic on `p`, primitives become helper calls,
+//! combinations become `min`/`max` (and, for materials, selects and blends).
+
+use crate::func::Func;
+use crate::passes::fold::const_value;
+use crate::graph::{Graph, NodeId};
+use crate::hash::FxHashMap;
+use crate::ops::{Builtin, Helper, Op, Swizzle};
+use crate::scene::{Material, Scene};
+use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
+use crate::types::Ty;
+use crate::value::Value;
+
+/// The material of a point: `albedo` (rgb, reflectivity) and `phong` (ambient, diffuse,
+/// specular, shininess), both vec4.
+type Mat = [NodeId; 2];
+
+/// Builds `scene_distance`: one result, the distance.
+pub fn distance_function(scene: &Scene) -> Func {
+    let mut b = Builder::new(scene, false);
+    let p = b.g.op(Op::Point, &[]);
+    b.g.set_hint(p, "p");
+    let (d, _) = b.shape(scene.root, p, 0);
+    Func { name: "scene_distance", graph: b.g, results: vec![d] }
+}
+
+/// Builds `scene_material`: two results, albedo and phong coefficients.
+pub fn material_function(scene: &Scene) -> Func {
+    let mut b = Builder::new(scene, true);
+    let p = b.g.op(Op::Point, &[]);
+    b.g.set_hint(p, "p");
+    let (_, m) = b.shape(scene.root, p, 0);
+    let m = m.unwrap_or_else(|| b.material_const(0));
+    Func { name: "scene_material", graph: b.g, results: m.to_vec() }
+}
+
+struct Builder<'s> {
+    scene: &'s Scene,
+    g: Graph,
+    materials: bool,
+    imported: FxHashMap<NodeId, NodeId>,
+    memo: FxHashMap<(ShapeId, NodeId, u32), (NodeId, Option<Mat>)>,
+    consts: FxHashMap<NodeId, Option<Value<f32>>>,
+}
+
+impl<'s> Builder<'s> {
+    fn new(scene: &'s Scene, materials: bool) -> Builder<'s> {
+        Builder { scene, g: Graph::new(), materials, imported: FxHashMap::default(), memo: FxHashMap::default(), consts: FxHashMap::default() }
+    }
+
+    /// Copies a value-graph node (and what it uses) into the function; lambda parameter
+    /// `(lambda, 0)` becomes `point` when `subst` is given.
+    fn import(&mut self, id: NodeId, subst: Option<(u32, NodeId)>) -> NodeId {
+        let vals = &self.scene.values;
+        let mut local: FxHashMap<NodeId, NodeId> = FxHashMap::default();
+        let mut stack = vec![id];
+        let mut order = Vec::new();
+        let mut seen: FxHashMap<NodeId, ()> = FxHashMap::default();
+        while let Some(n) = stack.pop() {
+            if seen.contains_key(&n) || (subst.is_none() && self.imported.contains_key(&n)) {
+                continue;
+            }
+            seen.insert(n, ());
+            order.push(n);
+            stack.extend(vals.node(n).args().iter().copied());
+        }
+        order.sort();
+        for n in order {
+            let node = *vals.node(n);
+            let lookup = |m: NodeId, local: &FxHashMap<NodeId, NodeId>, imported: &FxHashMap<NodeId, NodeId>| {
+                local.get(&m).or_else(|| imported.get(&m)).copied().unwrap_or(NodeId(0))
+            };
+            let args: Vec<NodeId> = node.args().iter().map(|a| lookup(*a, &local, &self.imported)).collect();
+            let new = match (node.op, subst) {
+                (Op::LambdaArg { lambda, index: 0 }, Some((l, p))) if lambda == l => p,
+                (Op::Param(_) | Op::LambdaArg { .. }, _) => self.g.input(node.op, node.ty, vals.span(n)),
+                (op, _) => self.g.add(op, &args, vals.span(n)),
+            };
+            if subst.is_some() {
+                local.insert(n, new);
+            } else {
+                self.imported.insert(n, new);
+            }
+        }
+        if subst.is_some() {
+            local.get(&id).copied().unwrap_or(NodeId(0))
+        } else {
+            self.imported.get(&id).copied().unwrap_or(NodeId(0))
+        }
+    }
+
+    fn material_const(&mut self, index: u32) -> Mat {
+        let m: &Material = &self.scene.materials[index as usize];
+        let albedo = Value::V4([m.color[0], m.color[1], m.color[2], m.reflectivity]);
+        let phong = Value::V4([m.ambient, m.diffuse, m.specular, m.shininess]);
+        [self.g.konst(albedo), self.g.konst(phong)]
+    }
+
+    fn hinted(&mut self, n: NodeId, hint: &'static str) -> NodeId {
+        self.g.set_hint(n, hint);
+        n
+    }
+
+    fn op(&mut self, op: Op, args: &[NodeId]) -> NodeId {
+        self.g.op(op, args)
+    }
+
+    fn f(&mut self, x: f32) -> NodeId {
+        self.g.f32(x)
+    }
+
+    /// The distance (and material) of shape `s` at point `p`, with `mat` the material of
+    /// parts that name none.
+    fn shape(&mut self, s: ShapeId, p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
+        let key = (s, p, if self.materials { mat } else { 0 });
+        if let Some(r) = self.memo.get(&key) {
+            return *r;
+        }
+        let node = self.scene.shape(s).clone();
+        let out = match &node.kind {
+            ShapeKind::Prim { prim, args } => {
+                let d = self.prim(*prim, args, p);
+                let d = self.hinted(d, "d");
+                (d, self.materials.then(|| self.material_const(mat)))
+            }
+            ShapeKind::Sdf { body, lambda, lipschitz } => {
+                let d = self.import(*body, Some((*lambda, p)));
+                let l = self.import(*lipschitz, None);
+                let d = self.op(Op::Div, &[d, l]);
+                let d = self.hinted(d, "d");
+                (d, self.materials.then(|| self.material_const(mat)))
+            }
+            ShapeKind::Displace { child, body, lambda, lipschitz } => {
+                let (d, m) = self.shape(*child, p, mat);
+                let f = self.import(*body, Some((*lambda, p)));
+                let l = self.import(*lipschitz, None);
+                let d = self.op(Op::Add, &[d, f]);
+                let d = self.op(Op::Div, &[d, l]);
+                (self.hinted(d, "d"), m)
+            }
+            ShapeKind::Combine { op, smooth, children } => self.combine(*op, *smooth, children, p, mat),
+            ShapeKind::Map { map, child } => self.map(map, *child, p, mat),
+            ShapeKind::Modify { modifier, child } => {
+                let (d, m) = self.shape(*child, p, mat);
+                let d = match *modifier {
+                    DistMod::Round(r) => {
+                        let r = self.import(r, None);
+                        self.op(Op::Sub, &[d, r])
+                    }
+                    DistMod::Onion(t) => {
+                        let t = self.import(t, None);
+                        let a = self.g.builtin(Builtin::Abs, &[d]);
+                        self.op(Op::Sub, &[a, t])
+                    }
+                };
+                (self.hinted(d, "d"), m)
+            }
+            ShapeKind::Material { material, child } => self.shape(*child, p, *material),
+        };
+        self.memo.insert(key, out);
+        out
+    }
+
+    fn prim(&mut self, prim: Prim, args: &[NodeId], p: NodeId) -> NodeId {
+        let a: Vec<NodeId> = args.iter().map(|x| self.import(*x, None)).collect();
+        let half = self.f(0.5);
+        match prim {
+            Prim::Sphere => self.op(Op::Helper(Helper::SdSphere), &[p, a[0]]),
+            Prim::Box => {
+                let b = self.op(Op::Mul, &[a[0], half]);
+                self.op(Op::Helper(Helper::SdBox), &[p, b])
+            }
+            Prim::RoundBox => {
+                let b = self.op(Op::Mul, &[a[0], half]);
+                let b = self.op(Op::Sub, &[b, a[1]]);
+                self.op(Op::Helper(Helper::SdRoundBox), &[p, b, a[1]])
+            }
+            Prim::Plane => {
+                let d = self.g.builtin(Builtin::Dot, &[p, a[0]]);
+                self.op(Op::Sub, &[d, a[1]])
+            }
+            Prim::Torus => self.op(Op::Helper(Helper::SdTorus), &[p, a[0], a[1]]),
+            Prim::Cylinder => {
+                let h = self.op(Op::Mul, &[a[1], half]);
+                self.op(Op::Helper(Helper::SdCylinder), &[p, a[0], h])
+            }
+            Prim::Capsule => self.op(Op::Helper(Helper::SdCapsule), &[p, a[0], a[1], a[2]]),
+        }
+    }
+
+    fn combine(&mut self, op: CombineOp, smooth: Option<NodeId>, children: &[ShapeId], p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
+        let parts: Vec<(NodeId, Option<Mat>)> = children.iter().map(|c| self.shape(*c, p, mat)).collect();
+        let Some(&(mut d, mut m)) = parts.first() else {
+            let far = self.f(1e30);
+            return (far, self.materials.then(|| self.material_const(mat)));
+        };
+        let k = smooth.map(|k| {
+            let k = self.import(k, None);
+            if self.g.as_const(k).is_some() {
+                k
+            } else {
+                // A param may be 0 at run time: keep the division finite.
+                let tiny = self.f(1e-20);
+                self.g.builtin(Builtin::Max, &[k, tiny])
+            }
+        });
+        for &(e, me) in &parts[1..] {
+            let (nd, h) = match (op, k) {
+                (CombineOp::Union, None) => (self.g.builtin(Builtin::Min, &[d, e]), None),
+                (CombineOp::Intersect, None) => (self.g.builtin(Builtin::Max, &[d, e]), None),
+                (CombineOp::Subtract, None) => {
+                    let ne = self.op(Op::Neg, &[e]);
+                    (self.g.builtin(Builtin::Max, &[d, ne]), None)
+                }
+                (CombineOp::Xor, _) => {
+                    let lo = self.g.builtin(Builtin::Min, &[d, e]);
+                    let hi = self.g.builtin(Builtin::Max, &[d, e]);
+                    let nhi = self.op(Op::Neg, &[hi]);
+                    (self.g.builtin(Builtin::Max, &[lo, nhi]), None)
+                }
+                (_, Some(k)) => {
+                    let (nd, h) = self.smooth(op, d, e, k);
+                    (nd, Some(h))
+                }
+            };
+            if let (Some(ma), Some(mb)) = (m, me) {
+                m = Some(self.blend(op, d, e, ma, mb, h));
+            }
+            d = self.hinted(nd, "d");
+        }
+        (d, m)
+    }
+
+    /// iq's polynomial smooth min/max: returns the distance and the weight `h` of the first
+    /// operand, which materials blend with.
+    fn smooth(&mut self, op: CombineOp, a: NodeId, b: NodeId, k: NodeId) -> (NodeId, NodeId) {
+        let half = self.f(0.5);
+        let zero = self.f(0.0);
+        let one = self.f(1.0);
+        // Union: h = clamp(0.5 + 0.5 (b - a) / k, 0, 1), d = mix(b, a, h) - k h (1 - h).
+        // Intersect: h = clamp(0.5 - 0.5 (b - a) / k, 0, 1), d = mix(b, a, h) + k h (1 - h).
+        // Subtract (a minus b): h = clamp(0.5 - 0.5 (a + b) / k, 0, 1) weighs a against -b.
+        let (num, other, plus) = match op {
+            CombineOp::Union => (self.op(Op::Sub, &[b, a]), b, false),
+            CombineOp::Intersect => (self.op(Op::Sub, &[a, b]), b, true),
+            _ => {
+                let s = self.op(Op::Add, &[a, b]);
+                let nb = self.op(Op::Neg, &[b]);
+                (s, nb, true)
+            }
+        };
+        let t = self.op(Op::Div, &[num, k]);
+        let t = self.op(Op::Mul, &[half, t]);
+        let t = self.op(Op::Add, &[half, t]);
+        let h = self.g.builtin(Builtin::Clamp, &[t, zero, one]);
+        let h = self.hinted(h, "h");
+        let mixed = self.g.builtin(Builtin::Mix, &[other, a, h]);
+        let omh = self.op(Op::Sub, &[one, h]);
+        let kh = self.op(Op::Mul, &[k, h]);
+        let corr = self.op(Op::Mul, &[kh, omh]);
+        let d = self.op(if plus { Op::Add } else { Op::Sub }, &[mixed, corr]);
+        (d, h)
+    }
+
+    /// The material after combining `a` (distance `da`) with `b` (distance `db`): the operand
+    /// that decides the distance gives its material; smooth operators blend by `h`.
+    fn blend(&mut self, op: CombineOp, da: NodeId, db: NodeId, ma: Mat, mb: Mat, h: Option<NodeId>) -> Mat {
+        // One material on both sides needs no choice (and mix(m, m, h) would round).
+        if ma == mb {
+            return ma;
+        }
+        if let Some(h) = h {
+            let h4 = self.g.splat(h, Ty::Vec4);
+            return [0, 1].map(|i| {
+                let n = self.g.builtin(Builtin::Mix, &[mb[i], ma[i], h4]);
+                self.hinted(n, "m")
+            });
+        }
+        let take_b = match op {
+            CombineOp::Union => self.op(Op::Lt, &[db, da]),
+            CombineOp::Intersect => self.op(Op::Gt, &[db, da]),
+            CombineOp::Subtract => {
+                let nb = self.op(Op::Neg, &[db]);
+                self.op(Op::Gt, &[nb, da])
+            }
+            CombineOp::Xor => {
+                let aa = self.g.builtin(Builtin::Abs, &[da]);
+                let ab = self.g.builtin(Builtin::Abs, &[db]);
+                self.op(Op::Lt, &[ab, aa])
+            }
+        };
+        [0, 1].map(|i| {
+            let n = self.op(Op::Select, &[ma[i], mb[i], take_b]);
+            self.hinted(n, "m")
+        })
+    }
+
+    fn map(&mut self, map: &PointMap, child: ShapeId, p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
+        let q = match map {
+            PointMap::Affine { m, o, s } => {
+                let mut q = p;
+                if let Some(m) = m {
+                    let m = self.import(*m, None);
+                    q = self.op(Op::MatMul, &[m, q]);
+                }
+                if let Some(o) = o {
+                    q = match const_value(&self.scene.values, *o, &mut self.consts) {
+                        // p - t reads better than p + (-t) and is the same number.
+                        Some(v) => {
+                            let t = self.g.konst(v.map(|x| -x));
+                            self.op(Op::Sub, &[q, t])
+                        }
+                        None => {
+                            let o = self.import(*o, None);
+                            self.op(Op::Add, &[q, o])
+                        }
+                    };
+                }
+                if let Some(s) = s {
+                    let s = self.import(*s, None);
+                    q = self.op(Op::Div, &[q, s]);
+                }
+                q
+            }
+            PointMap::Mirror(axis) => {
+                let comps: Vec<NodeId> = (0..3u8)
+                    .map(|i| {
+                        let c = self.op(Op::Swizzle(Swizzle::new(&[i])), &[p]);
+                        if i == *axis {
+                            self.g.builtin(Builtin::Abs, &[c])
+                        } else {
+                            c
+                        }
+                    })
+                    .collect();
+                self.op(Op::MakeVec, &comps)
+            }
+            PointMap::Repeat { period } => {
+                // q = p - c * round(p / c'), c' = c with zeros replaced by 1 (those axes stay).
+                let c = self.g.vec3(*period);
+                let cd = self.g.vec3(period.map(|x| if x == 0.0 { 1.0 } else { x }));
+                let r = self.op(Op::Div, &[p, cd]);
+                let r = self.g.builtin(Builtin::Round, &[r]);
+                let off = self.op(Op::Mul, &[c, r]);
+                self.op(Op::Sub, &[p, off])
+            }
+            PointMap::RepeatLimited { period, count } => {
+                // Cell index rounded to the nearest copy (half-integers for even counts),
+                // clamped to the copies that exist: q = p - c * clamp(round(p/c - o) + o, -l, l).
+                let o = count.map(|n| if n % 2 == 0 { 0.5 } else { 0.0 });
+                let l = count.map(|n| (n as f32 - 1.0) * 0.5);
+                let c = self.g.vec3(*period);
+                let cd = self.g.vec3(period.map(|x| if x == 0.0 { 1.0 } else { x }));
+                let ov = self.g.vec3(o);
+                let hi = self.g.vec3(l);
+                let lo = self.g.vec3(l.map(|x| -x));
+                let r = self.op(Op::Div, &[p, cd]);
+                let r = self.op(Op::Sub, &[r, ov]);
+                let r = self.g.builtin(Builtin::Round, &[r]);
+                let r = self.op(Op::Add, &[r, ov]);
+                let idx = self.g.builtin(Builtin::Clamp, &[r, lo, hi]);
+                let off = self.op(Op::Mul, &[c, idx]);
+                self.op(Op::Sub, &[p, off])
+            }
+            PointMap::Elongate(h) => {
+                let h = self.import(*h, None);
+                let nh = self.op(Op::Neg, &[h]);
+                let c = self.g.builtin(Builtin::Clamp, &[p, nh, h]);
+                self.op(Op::Sub, &[p, c])
+            }
+        };
+        let q = self.hinted(q, "q");
+        let (d, m) = self.shape(child, q, mat);
+        if let PointMap::Affine { s: Some(s), .. } = map {
+            let s = self.import(*s, None);
+            let d = self.op(Op::Mul, &[d, s]);
+            return (self.hinted(d, "d"), m);
+        }
+        (d, m)
+    }
+}

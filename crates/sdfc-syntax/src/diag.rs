@@ -1,0 +1,168 @@
+//! Diagnostics: what went wrong, where, and a hint; rendered with codespan-reporting.
+
+use crate::span::Span;
+use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
+use codespan_reporting::files::SimpleFile;
+use codespan_reporting::term::{self, termcolor::Buffer};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+/// One problem in a scene file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    pub severity: Severity,
+    pub message: String,
+    /// Where it is; the caret goes under this span.
+    pub span: Span,
+    /// A short label shown under the caret.
+    pub label: String,
+    /// Further spans worth showing (for example where a name was first defined).
+    pub secondary: Vec<(Span, String)>,
+    /// How to fix it, where we know.
+    pub hint: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn error(span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Error,
+            message: message.into(),
+            span,
+            label: String::new(),
+            secondary: Vec::new(),
+            hint: None,
+        }
+    }
+
+    pub fn warning(span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Warning,
+            ..Diagnostic::error(span, message)
+        }
+    }
+
+    pub fn with_label(mut self, label: impl Into<String>) -> Diagnostic {
+        self.label = label.into();
+        self
+    }
+
+    pub fn with_hint(mut self, hint: impl Into<String>) -> Diagnostic {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    pub fn with_secondary(mut self, span: Span, label: impl Into<String>) -> Diagnostic {
+        self.secondary.push((span, label.into()));
+        self
+    }
+
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// 1-based line and column (in characters) of the start of the span.
+    pub fn line_col(&self, source: &str) -> (usize, usize) {
+        line_col(source, self.span.start as usize)
+    }
+}
+
+/// 1-based line and column (in characters) of a byte offset.
+pub fn line_col(source: &str, offset: usize) -> (usize, usize) {
+    let offset = floor_char_boundary(source, offset.min(source.len()));
+    let before = &source[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let col = source[line_start..offset].chars().count() + 1;
+    (line, col)
+}
+
+fn floor_char_boundary(s: &str, mut i: usize) -> usize {
+    while i > 0 && !s.is_char_boundary(i) {
+        i -= 1;
+    }
+    i
+}
+
+/// Renders diagnostics as text (`file:line:column`, the source line with carets, the hint),
+/// without colour. Spans are clamped to the source so a bad span can never panic.
+pub fn render(file_name: &str, source: &str, diagnostics: &[Diagnostic]) -> String {
+    render_with(file_name, source, diagnostics, false)
+}
+
+/// As [`render`], with ANSI colours when `color` is true.
+pub fn render_with(file_name: &str, source: &str, diagnostics: &[Diagnostic], color: bool) -> String {
+    let file = SimpleFile::new(file_name, source);
+    let mut buffer = if color {
+        Buffer::ansi()
+    } else {
+        Buffer::no_color()
+    };
+    let config = term::Config::default();
+    for d in diagnostics {
+        let clamp = |s: Span| {
+            let start = floor_char_boundary(source, (s.start as usize).min(source.len()));
+            let end = floor_char_boundary(source, (s.end as usize).clamp(start, source.len()));
+            start..end
+        };
+        let (line, col) = d.line_col(source);
+        let cs = match d.severity {
+            Severity::Error => CsDiagnostic::error(),
+            Severity::Warning => CsDiagnostic::warning(),
+        };
+        let mut labels = vec![Label::primary((), clamp(d.span)).with_message(d.label.clone())];
+        for (span, msg) in &d.secondary {
+            labels.push(Label::secondary((), clamp(*span)).with_message(msg.clone()));
+        }
+        let mut notes = Vec::new();
+        if let Some(h) = &d.hint {
+            notes.push(format!("hint: {h}"));
+        }
+        let cs = cs
+            .with_message(format!("{} ({file_name}:{line}:{col})", d.message))
+            .with_labels(labels)
+            .with_notes(notes);
+        // Writing into an in-memory buffer cannot fail for I/O reasons; a formatting failure
+        // would only lose this diagnostic's text, so fall back to a plain line.
+        if term::emit_to_write_style(&mut buffer, &config, &file, &cs).is_err() {
+            buffer_plain(&mut buffer, file_name, line, col, &d.message);
+        }
+    }
+    String::from_utf8_lossy(buffer.as_slice()).into_owned()
+}
+
+fn buffer_plain(buffer: &mut Buffer, file: &str, line: usize, col: usize, msg: &str) {
+    use std::io::Write;
+    let _ = writeln!(buffer, "error: {msg} ({file}:{line}:{col})");
+}
+
+/// The known name closest to `name` (Damerau-free Levenshtein), if it is close enough to be a
+/// plausible misspelling.
+pub fn nearest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let mut best: Option<(usize, &str)> = None;
+    for k in known {
+        let d = levenshtein(name, k);
+        let limit = (name.chars().count().max(k.chars().count()) / 3).max(1);
+        if d <= limit && best.is_none_or(|(bd, bk)| d < bd || (d == bd && k < bk)) {
+            best = Some((d, k));
+        }
+    }
+    best.map(|(_, k)| k)
+}
+
+fn levenshtein(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let cost = usize::from(ca != *cb);
+            cur[j + 1] = (prev[j] + cost).min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}

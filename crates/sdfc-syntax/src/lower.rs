@@ -1,0 +1,540 @@
+//! Builds the AST of one item from pest's pairs: binary operators through pest's PrattParser,
+//! unary minus and postfix forms as loops, number literals converted (and checked) here.
+//! Also enforces the depth limits that keep every later recursive pass off the stack limit.
+
+use crate::ast::*;
+use crate::diag::Diagnostic;
+use crate::parser::Rule;
+use crate::span::Span;
+use crate::{MAX_EXPR_DEPTH, MAX_NESTING};
+use pest::iterators::{Pair, Pairs};
+use pest::pratt_parser::{Assoc, Op, PrattParser};
+use std::cell::{Cell, RefCell};
+
+/// The binary operators, lowest precedence first; each line is one level, all left-associative.
+pub(crate) fn pratt() -> PrattParser<Rule> {
+    let l = |r| Op::infix(r, Assoc::Left);
+    PrattParser::new()
+        .op(l(Rule::op_or))
+        .op(l(Rule::op_and))
+        .op(l(Rule::op_lt) | l(Rule::op_le) | l(Rule::op_gt) | l(Rule::op_ge) | l(Rule::op_eq) | l(Rule::op_ne))
+        .op(l(Rule::op_add) | l(Rule::op_sub))
+        .op(l(Rule::op_mul) | l(Rule::op_div) | l(Rule::op_rem))
+}
+
+/// The error has been recorded in [`Lower::diags`]; unwind the current item.
+#[derive(Debug)]
+pub(crate) struct Stop;
+
+type R<T> = Result<T, Stop>;
+
+/// An expression with the depth of its tree (a leaf has depth 1).
+struct Node {
+    expr: Expr,
+    depth: usize,
+}
+
+pub(crate) struct Lower<'p> {
+    /// Where the text pest saw starts in the whole source.
+    offset: usize,
+    pratt: &'p PrattParser<Rule>,
+    pub(crate) diags: RefCell<Vec<Diagnostic>>,
+    lambdas: Cell<usize>,
+}
+
+impl<'p> Lower<'p> {
+    pub(crate) fn new(offset: usize, pratt: &'p PrattParser<Rule>) -> Lower<'p> {
+        Lower {
+            offset,
+            pratt,
+            diags: RefCell::new(Vec::new()),
+            lambdas: Cell::new(0),
+        }
+    }
+
+    fn span(&self, pair: &Pair<'_, Rule>) -> Span {
+        let s = pair.as_span();
+        Span::new(self.offset + s.start(), self.offset + s.end())
+    }
+
+    fn ident(&self, pair: &Pair<'_, Rule>) -> Ident {
+        Ident {
+            name: pair.as_str().to_string(),
+            span: self.span(pair),
+        }
+    }
+
+    fn error(&self, d: Diagnostic) -> Stop {
+        self.diags.borrow_mut().push(d);
+        Stop
+    }
+
+    /// A pair that the grammar should have made impossible.
+    fn internal(&self, span: Span, what: &str) -> Stop {
+        self.error(
+            Diagnostic::error(span, format!("internal parser error: {what}"))
+                .with_hint("this is a bug in sdfc; please report it with the input"),
+        )
+    }
+
+    /// The next pair of the given rule, skipping punctuation.
+    fn expect<'i>(&self, pairs: &mut Pairs<'i, Rule>, rule: Rule, at: Span) -> R<Pair<'i, Rule>> {
+        for p in pairs.by_ref() {
+            if p.as_rule() == rule {
+                return Ok(p);
+            }
+            if !is_punct(p.as_rule()) {
+                break;
+            }
+        }
+        Err(self.internal(at, &format!("missing {rule:?}")))
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Items
+
+    pub(crate) fn item(&self, pair: Pair<'_, Rule>) -> R<Item> {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut inner = pair.into_inner();
+        let kind = match rule {
+            Rule::let_item => {
+                let name = self.ident(&self.expect(&mut inner, Rule::ident, span)?);
+                let value = self.expr(self.expect(&mut inner, Rule::expr, span)?)?;
+                ItemKind::Let { name, value }
+            }
+            Rule::param_item => {
+                let name = self.ident(&self.expect(&mut inner, Rule::ident, span)?);
+                let default = self.expr(self.expect(&mut inner, Rule::expr, span)?)?;
+                ItemKind::Param { name, default }
+            }
+            Rule::scene_item => {
+                let value = self.expr(self.expect(&mut inner, Rule::expr, span)?)?;
+                ItemKind::Scene { value }
+            }
+            Rule::fn_item => {
+                let name = self.ident(&self.expect(&mut inner, Rule::ident, span)?);
+                let mut params = Vec::new();
+                let mut body = None;
+                let mut failed = false;
+                for p in inner {
+                    match p.as_rule() {
+                        Rule::fn_param => match self.fn_param(p) {
+                            Ok(param) => params.push(param),
+                            Err(Stop) => failed = true,
+                        },
+                        Rule::expr => body = Some(self.expr(p)),
+                        _ => {}
+                    }
+                }
+                let body = body.ok_or_else(|| self.internal(span, "fn without a body"))??;
+                if failed {
+                    return Err(Stop);
+                }
+                ItemKind::Fn { name, params, body }
+            }
+            Rule::material_item => {
+                let name = self.ident(&self.expect(&mut inner, Rule::ident, span)?);
+                ItemKind::Material {
+                    name,
+                    fields: self.fields(inner)?,
+                }
+            }
+            Rule::light_item => {
+                let kind = self.ident(&self.expect(&mut inner, Rule::ident, span)?);
+                ItemKind::Light {
+                    kind,
+                    fields: self.fields(inner)?,
+                }
+            }
+            Rule::camera_item => ItemKind::Camera {
+                fields: self.fields(inner)?,
+            },
+            Rule::render_item => ItemKind::Render {
+                fields: self.fields(inner)?,
+            },
+            other => return Err(self.internal(span, &format!("unexpected item {other:?}"))),
+        };
+        Ok(Item { kind, span })
+    }
+
+    fn fn_param(&self, pair: Pair<'_, Rule>) -> R<FnParam> {
+        let span = self.span(&pair);
+        let mut inner = pair.into_inner();
+        let name = self.ident(&self.expect(&mut inner, Rule::param_name, span)?);
+        let default = match inner.find(|p| p.as_rule() == Rule::expr) {
+            Some(e) => Some(self.expr(e)?),
+            None => None,
+        };
+        Ok(FnParam { name, default })
+    }
+
+    /// The fields of a block; every field is checked even after one fails.
+    fn fields(&self, pairs: Pairs<'_, Rule>) -> R<Vec<Field>> {
+        let mut fields = Vec::new();
+        let mut failed = false;
+        for p in pairs.filter(|p| p.as_rule() == Rule::field) {
+            let span = self.span(&p);
+            let mut inner = p.into_inner();
+            let field = self.expect(&mut inner, Rule::field_name, span).and_then(|n| {
+                let name = self.ident(&n);
+                let value = self.expr(self.expect(&mut inner, Rule::expr, span)?)?;
+                Ok(Field { name, value })
+            });
+            match field {
+                Ok(f) => fields.push(f),
+                Err(Stop) => failed = true,
+            }
+        }
+        if failed {
+            Err(Stop)
+        } else {
+            Ok(fields)
+        }
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Expressions
+
+    fn expr(&self, pair: Pair<'_, Rule>) -> R<Expr> {
+        self.expr_node(pair).map(|n| n.expr)
+    }
+
+    fn expr_node(&self, pair: Pair<'_, Rule>) -> R<Node> {
+        if pair.as_rule() != Rule::expr {
+            return Err(self.internal(self.span(&pair), "expected an expression pair"));
+        }
+        self.pratt
+            .map_primary(|term| self.term(term))
+            .map_infix(|lhs, op, rhs| {
+                let (lhs, rhs) = (lhs?, rhs?);
+                let bin = binary_op(op.as_rule())
+                    .ok_or_else(|| self.internal(self.span(&op), "unknown operator"))?;
+                let span = lhs.expr.span.to(rhs.expr.span);
+                let depth = 1 + lhs.depth.max(rhs.depth);
+                self.node(
+                    ExprKind::Binary(bin, Box::new(lhs.expr), Box::new(rhs.expr)),
+                    span,
+                    depth,
+                    self.span(&op),
+                )
+            })
+            .parse(pair.into_inner())
+    }
+
+    /// Wraps up a new node, refusing trees deeper than [`MAX_EXPR_DEPTH`]; `at` is where to
+    /// point if it is too deep (the operator or name that made it so).
+    fn node(&self, kind: ExprKind, span: Span, depth: usize, at: Span) -> R<Node> {
+        if depth > MAX_EXPR_DEPTH {
+            return Err(self.error(
+                Diagnostic::error(
+                    at,
+                    format!("expression is nested too deeply (more than {MAX_EXPR_DEPTH} levels)"),
+                )
+                .with_label("too deep from here")
+                .with_hint(
+                    "split it into smaller pieces with `let`, or use `union(a, b, c, ...)` \
+                     instead of a long chain of `|`",
+                ),
+            ));
+        }
+        Ok(Node {
+            expr: Expr { kind, span },
+            depth,
+        })
+    }
+
+    /// `neg* primary postfix*`: postfix forms apply first (left to right), then the minus signs
+    /// (innermost first). Loops, not recursion, so long chains cannot exhaust the stack.
+    fn term(&self, pair: Pair<'_, Rule>) -> R<Node> {
+        let term_span = self.span(&pair);
+        let mut negs = Vec::new();
+        let mut acc: Option<Node> = None;
+        for p in pair.into_inner() {
+            match p.as_rule() {
+                Rule::neg => negs.push(self.span(&p)),
+                Rule::postfix => {
+                    let recv = acc.take().ok_or_else(|| {
+                        self.internal(self.span(&p), "postfix without a receiver")
+                    })?;
+                    acc = Some(self.postfix(recv, p)?);
+                }
+                _ => acc = Some(self.primary(p)?),
+            }
+        }
+        let mut node = acc.ok_or_else(|| self.internal(term_span, "empty term"))?;
+        for neg in negs.into_iter().rev() {
+            let span = neg.to(node.expr.span);
+            let depth = node.depth + 1;
+            node = self.node(
+                ExprKind::Unary(UnaryOp::Neg, Box::new(node.expr)),
+                span,
+                depth,
+                neg,
+            )?;
+        }
+        Ok(node)
+    }
+
+    fn postfix(&self, recv: Node, pair: Pair<'_, Rule>) -> R<Node> {
+        let pspan = self.span(&pair);
+        let mut inner = pair.into_inner();
+        let member = self.ident(&self.expect(&mut inner, Rule::member, pspan)?);
+        let is_call = inner.clone().any(|p| p.as_rule() == Rule::lparen);
+        // The pair's own span may include whitespace that pest skipped before trying the
+        // optional argument list, so the node ends at the member name or at the `)`.
+        let end = inner.clone().last().map_or(member.span, |p| self.span(&p));
+        let span = recv.expr.span.to(member.span).to(end);
+        if is_call {
+            let (mut args, depth) = self.args(inner)?;
+            let depth = depth.max(recv.depth) + 1;
+            args.insert(
+                0,
+                Arg {
+                    name: None,
+                    value: recv.expr,
+                },
+            );
+            let at = member.span;
+            self.node(
+                ExprKind::Call {
+                    callee: member,
+                    args,
+                    method: true,
+                },
+                span,
+                depth,
+                at,
+            )
+        } else {
+            let at = member.span;
+            self.node(
+                ExprKind::Swizzle(Box::new(recv.expr), member),
+                span,
+                recv.depth + 1,
+                at,
+            )
+        }
+    }
+
+    /// The `arg` pairs among `pairs`, and the depth of the deepest argument value.
+    fn args(&self, pairs: Pairs<'_, Rule>) -> R<(Vec<Arg>, usize)> {
+        let mut args = Vec::new();
+        let mut depth = 0;
+        let mut failed = false;
+        for p in pairs.filter(|p| p.as_rule() == Rule::arg) {
+            let mut name = None;
+            let mut value = None;
+            for q in p.into_inner() {
+                match q.as_rule() {
+                    Rule::arg_name => name = Some(self.ident(&q)),
+                    Rule::expr => value = Some(self.expr_node(q)),
+                    _ => {}
+                }
+            }
+            match value {
+                Some(Ok(v)) => {
+                    depth = depth.max(v.depth);
+                    args.push(Arg {
+                        name,
+                        value: v.expr,
+                    });
+                }
+                Some(Err(Stop)) => failed = true,
+                None => return Err(self.internal(Span::default(), "argument without a value")),
+            }
+        }
+        if failed {
+            Err(Stop)
+        } else {
+            Ok((args, depth))
+        }
+    }
+
+    fn primary(&self, pair: Pair<'_, Rule>) -> R<Node> {
+        let span = self.span(&pair);
+        match pair.as_rule() {
+            Rule::number => self.number(pair),
+            Rule::boolean => self.node(ExprKind::Bool(pair.as_str() == "true"), span, 1, span),
+            Rule::name => self.node(ExprKind::Name(self.ident(&pair)), span, 1, span),
+            Rule::call => {
+                let mut inner = pair.into_inner();
+                let callee = self.ident(&self.expect(&mut inner, Rule::callee, span)?);
+                let (args, depth) = self.args(inner)?;
+                let at = callee.span;
+                self.node(
+                    ExprKind::Call {
+                        callee,
+                        args,
+                        method: false,
+                    },
+                    span,
+                    depth + 1,
+                    at,
+                )
+            }
+            Rule::vector => {
+                let mut elems = Vec::new();
+                let mut depth = 0;
+                let mut failed = false;
+                for p in pair.into_inner().filter(|p| p.as_rule() == Rule::expr) {
+                    match self.expr_node(p) {
+                        Ok(n) => {
+                            depth = depth.max(n.depth);
+                            elems.push(n.expr);
+                        }
+                        Err(Stop) => failed = true,
+                    }
+                }
+                if failed {
+                    return Err(Stop);
+                }
+                self.node(
+                    ExprKind::Vector(elems),
+                    span,
+                    depth + 1,
+                    Span::new(span.start as usize, span.start as usize + 1),
+                )
+            }
+            Rule::paren => {
+                // No node of its own: the inner expression, with the parentheses in its span.
+                let mut inner = pair.into_inner();
+                let mut node = self.expr_node(self.expect(&mut inner, Rule::expr, span)?)?;
+                node.expr.span = span;
+                Ok(node)
+            }
+            Rule::lambda => self.lambda(pair),
+            other => Err(self.internal(span, &format!("unexpected primary {other:?}"))),
+        }
+    }
+
+    fn lambda(&self, pair: Pair<'_, Rule>) -> R<Node> {
+        let span = self.span(&pair);
+        let head = Span::new(span.start as usize, span.start as usize + 1);
+        let level = self.lambdas.get() + 1;
+        if level > MAX_NESTING {
+            return Err(self.error(
+                Diagnostic::error(
+                    head,
+                    format!("lambdas are nested too deeply (more than {MAX_NESTING} levels)"),
+                )
+                .with_label("too deep from here"),
+            ));
+        }
+        let mut params = Vec::new();
+        let mut body = None;
+        for p in pair.into_inner() {
+            match p.as_rule() {
+                Rule::param_name => params.push(self.ident(&p)),
+                Rule::expr => body = Some(p),
+                _ => {}
+            }
+        }
+        let body = body.ok_or_else(|| self.internal(span, "lambda without a body"))?;
+        self.lambdas.set(level);
+        let body = self.expr_node(body);
+        self.lambdas.set(level - 1);
+        let body = body?;
+        // From the first `|` to the end of the body (the pair may end in skipped whitespace).
+        let span = head.to(body.expr.span);
+        self.node(
+            ExprKind::Lambda {
+                params,
+                body: Box::new(body.expr),
+            },
+            span,
+            body.depth + 1,
+            head,
+        )
+    }
+
+    fn number(&self, pair: Pair<'_, Rule>) -> R<Node> {
+        let span = self.span(&pair);
+        let mut body = "";
+        let mut suffix = None;
+        for p in pair.into_inner() {
+            match p.as_rule() {
+                Rule::num_body => body = p.as_str(),
+                Rule::num_suffix => suffix = Some((p.as_str(), self.span(&p))),
+                _ => {}
+            }
+        }
+        let value = match suffix {
+            None => body.parse::<f32>().ok(),
+            // Degrees: read in f64, convert in f64, round once to f32.
+            Some(("deg", _)) => body
+                .parse::<f64>()
+                .ok()
+                .map(|d| (d * (std::f64::consts::PI / 180.0)) as f32),
+            Some((other, sspan)) => {
+                let hint = if other.starts_with(['e', 'E']) {
+                    "an exponent needs digits, as in `1e-4` or `3.2E+2`"
+                } else {
+                    "the only number suffix is `deg` (degrees, as in `30deg`)"
+                };
+                return Err(self.error(
+                    Diagnostic::error(sspan, format!("unknown number suffix `{other}`"))
+                        .with_label("not a number suffix")
+                        .with_hint(hint),
+                ));
+            }
+        };
+        let Some(value) = value else {
+            return Err(self.error(Diagnostic::error(span, "malformed number").with_label("here")));
+        };
+        if !value.is_finite() {
+            return Err(self.error(
+                Diagnostic::error(span, "number too large for a 32-bit float")
+                    .with_label("too large")
+                    .with_hint("the largest 32-bit float is about 3.4e38"),
+            ));
+        }
+        self.node(ExprKind::Number(value), span, 1, span)
+    }
+}
+
+fn binary_op(rule: Rule) -> Option<BinaryOp> {
+    Some(match rule {
+        Rule::op_or => BinaryOp::Or,
+        Rule::op_and => BinaryOp::And,
+        Rule::op_lt => BinaryOp::Lt,
+        Rule::op_le => BinaryOp::Le,
+        Rule::op_gt => BinaryOp::Gt,
+        Rule::op_ge => BinaryOp::Ge,
+        Rule::op_eq => BinaryOp::Eq,
+        Rule::op_ne => BinaryOp::Ne,
+        Rule::op_add => BinaryOp::Add,
+        Rule::op_sub => BinaryOp::Sub,
+        Rule::op_mul => BinaryOp::Mul,
+        Rule::op_div => BinaryOp::Div,
+        Rule::op_rem => BinaryOp::Rem,
+        _ => return None,
+    })
+}
+
+/// Keyword and punctuation pairs, which carry no information once the tree is built.
+fn is_punct(rule: Rule) -> bool {
+    matches!(
+        rule,
+        Rule::kw_let
+            | Rule::kw_fn
+            | Rule::kw_param
+            | Rule::kw_material
+            | Rule::kw_light
+            | Rule::kw_camera
+            | Rule::kw_render
+            | Rule::kw_scene
+            | Rule::semi
+            | Rule::assign
+            | Rule::colon
+            | Rule::comma
+            | Rule::dot
+            | Rule::bar
+            | Rule::lparen
+            | Rule::rparen
+            | Rule::lbracket
+            | Rule::rbracket
+            | Rule::lbrace
+            | Rule::rbrace
+    )
+}

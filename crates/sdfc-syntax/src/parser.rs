@@ -1,0 +1,84 @@
+//! The parse driver: pre-checks, then pest one item at a time, resynchronising after each
+//! syntax error so that one run reports every error it can find.
+
+use crate::ast::File;
+use crate::diag::Diagnostic;
+use crate::lower::{self, Lower};
+use crate::span::Span;
+use crate::{scan, syntax_error};
+use pest::Parser;
+
+#[derive(pest_derive::Parser)]
+#[grammar = "../../../grammar/sdf.pest"]
+struct SdfParser;
+
+/// After this many diagnostics the parser stops looking for more.
+const MAX_DIAGNOSTICS: usize = 100;
+
+pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
+    scan::precheck(source).map_err(|d| vec![d])?;
+    let pratt = lower::pratt();
+    let mut items = Vec::new();
+    let mut diags: Vec<Diagnostic> = Vec::new();
+    // A byte-order mark is not part of the text.
+    let mut pos = if source.starts_with('\u{FEFF}') { 3 } else { 0 };
+    // The start of the previous item, from which hints may scan the source.
+    let mut context = pos;
+    while pos <= source.len() {
+        if diags.len() >= MAX_DIAGNOSTICS {
+            diags.push(Diagnostic::error(
+                Span::new(pos, pos),
+                format!("too many errors; stopping after {MAX_DIAGNOSTICS}"),
+            ));
+            break;
+        }
+        // pest sees the text only up to where this item must end at the latest (a valid item
+        // never runs past its first `;` outside braces, the `}` closing its block, or a line
+        // that starts another item). This keeps the cost of each syntax error proportional to
+        // the item, not to the rest of the file: pest's error scans its whole input.
+        let bound = scan::resync(source, pos, pos);
+        let Some(rest) = source.get(pos..bound) else {
+            diags.push(internal(pos, "resumed inside a character"));
+            break;
+        };
+        match SdfParser::parse(Rule::next_item, rest) {
+            Ok(mut pairs) => {
+                let Some(item) = pairs.next().and_then(|p| p.into_inner().next()) else {
+                    diags.push(internal(pos, "empty parse"));
+                    break;
+                };
+                if item.as_rule() == Rule::EOI {
+                    break;
+                }
+                let end = item.as_span().end();
+                let lower = Lower::new(pos, &pratt);
+                // On `Err(Stop)` the reasons are already in `lower.diags`.
+                if let Ok(item) = lower.item(item) {
+                    items.push(item);
+                }
+                diags.append(&mut lower.diags.borrow_mut());
+                context = pos;
+                pos += end.max(1);
+            }
+            Err(error) => {
+                let (err_pos, d) = syntax_error::diagnose(source, pos, context, &error);
+                diags.push(d);
+                context = pos;
+                pos = scan::resync(source, pos, err_pos).max(pos + 1);
+            }
+        }
+    }
+    if diags.is_empty() {
+        Ok(File { items })
+    } else {
+        Err(diags)
+    }
+}
+
+fn internal(pos: usize, what: &str) -> Diagnostic {
+    Diagnostic::error(
+        Span::new(pos, pos),
+        format!("internal parser error: {what}"),
+    )
+    .with_hint("this is a bug in sdfc; please report it with the input")
+}

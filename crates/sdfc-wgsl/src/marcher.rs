@@ -1,0 +1,138 @@
+//! The per-scene parts of the marcher: constants from the camera and render settings, the
+//! surface threshold, the normal method and the shading for the scene's lights. Only what
+//! the settings ask for is emitted.
+
+use crate::literal::{float, vec3};
+use crate::parts;
+use sdfc_ir::scene::{Epsilon, LightKind, Normals, Scene};
+use std::fmt::Write;
+
+pub fn emit(scene: &Scene) -> String {
+    let mut s = String::new();
+    s += &constants(scene);
+    s += "\n";
+    s += parts::HIT;
+    s += "\n";
+    s += &surface_epsilon(scene);
+    s += "\n";
+    s += if scene.render.relaxation > 1.0 { parts::MARCH_RELAXED } else { parts::MARCH_PLAIN };
+    s += "\n";
+    s += parts::CAMERA;
+    s += "\n";
+    s += parts::SAFE_NORMALIZE;
+    s += "\n";
+    s += match scene.render.normals {
+        Normals::Central => parts::NORMALS_CENTRAL,
+        Normals::Forward => parts::NORMALS_FORWARD,
+        // Analytic normals are rejected by the compiler until they exist.
+        Normals::Tetrahedron | Normals::Analytic => parts::NORMALS_TETRAHEDRON,
+    };
+    s += "\n";
+    s += &shade(scene);
+    s += "\n";
+    s += &finish(scene);
+    s += "\n";
+    s += parts::MAIN;
+    s
+}
+
+/// The camera basis of spec section 8, computed in f64 and rounded once.
+fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32) {
+    let c = &scene.camera;
+    let v = |a: [f32; 3]| a.map(|x| x as f64);
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let norm = |a: [f64; 3]| {
+        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        a.map(|x| x / l)
+    };
+    let forward = norm(sub(v(c.target), v(c.position)));
+    let right = norm(cross(forward, v(c.up)));
+    let up = cross(right, forward);
+    let f = |a: [f64; 3]| a.map(|x| x as f32);
+    (f(forward), f(right), f(up), (c.fov as f64 * 0.5).tan() as f32)
+}
+
+fn constants(scene: &Scene) -> String {
+    let r = &scene.render;
+    let (forward, right, up, tan_half) = camera_basis(scene);
+    let mut s = String::from("// Camera (spec section 8) and render settings (spec section 7).\n");
+    let _ = writeln!(s, "const CAMERA_POSITION: vec3<f32> = {};", vec3(scene.camera.position));
+    let _ = writeln!(s, "const CAMERA_FORWARD: vec3<f32> = {};", vec3(forward));
+    let _ = writeln!(s, "const CAMERA_RIGHT: vec3<f32> = {};", vec3(right));
+    let _ = writeln!(s, "const CAMERA_UP: vec3<f32> = {};", vec3(up));
+    let _ = writeln!(s, "const TAN_HALF_FOV: f32 = {};", float(tan_half));
+    let _ = writeln!(s, "const MAX_STEPS: u32 = {}u;", r.max_steps);
+    let _ = writeln!(s, "const MAX_DISTANCE: f32 = {};", float(r.max_distance));
+    if r.relaxation > 1.0 {
+        let _ = writeln!(s, "const RELAXATION: f32 = {};", float(r.relaxation));
+    }
+    let _ = writeln!(s, "const ANTIALIAS: u32 = {}u;", r.antialias);
+    let _ = writeln!(s, "const BACKGROUND: vec3<f32> = {};", vec3(r.background));
+    let _ = writeln!(s, "const INV_GAMMA: f32 = {};", float((1.0 / r.gamma as f64) as f32));
+    s
+}
+
+fn surface_epsilon(scene: &Scene) -> String {
+    match scene.render.epsilon {
+        Epsilon::Pixel => "// `epsilon: pixel`: half the pixel's footprint at distance t.\n\
+             fn surface_epsilon(t: f32, pixel: f32) -> f32 {\n    return 0.5 * pixel * t;\n}\n"
+            .to_string(),
+        Epsilon::Absolute(e) => format!(
+            "// `epsilon: {}`: an absolute surface threshold.\n\
+             fn surface_epsilon(t: f32, pixel: f32) -> f32 {{\n    return {};\n}}\n",
+            float(e),
+            float(e)
+        ),
+    }
+}
+
+/// Phong shading (spec section 6) for each light of the scene, unrolled.
+fn shade(scene: &Scene) -> String {
+    let mut s = String::from(
+        "// Phong shading: ambient, then diffuse and specular for each light.\n\
+         fn shade(p: vec3<f32>, n: vec3<f32>, rd: vec3<f32>, m: SceneMaterial) -> vec3<f32> {\n\
+         \x20   let base = m.albedo.rgb;\n\
+         \x20   var c = m.phong.x * base;\n",
+    );
+    for (i, light) in scene.lights.iter().enumerate() {
+        let radiance: Vec<f32> = light.color.iter().map(|c| c * light.intensity).collect();
+        let _ = writeln!(s, "    {{");
+        match &light.kind {
+            LightKind::Directional { direction } => {
+                let to_light = direction.map(|x| -x);
+                let _ = writeln!(s, "        // light {i}: directional");
+                let _ = writeln!(s, "        let l = {};", vec3(to_light));
+            }
+            LightKind::Point { position } => {
+                let _ = writeln!(s, "        // light {i}: point");
+                let _ = writeln!(s, "        let l = safe_normalize({} - p);", vec3(*position));
+            }
+        }
+        let _ = writeln!(s, "        let diffuse = max(dot(n, l), 0.0);");
+        let _ = writeln!(s, "        let r = reflect(-l, n);");
+        let _ = writeln!(s, "        let specular = select(0.0, pow(max(dot(r, -rd), 1e-6), m.phong.w), diffuse > 0.0);");
+        let _ = writeln!(
+            s,
+            "        c = c + {} * (m.phong.y * diffuse * base + m.phong.z * specular);",
+            vec3([radiance[0], radiance[1], radiance[2]])
+        );
+        let _ = writeln!(s, "    }}");
+    }
+    s += "    return c;\n}\n";
+    s
+}
+
+fn finish(scene: &Scene) -> String {
+    match &scene.render.fog {
+        None => "// No fog: the shaded colour is final.\n\
+             fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {\n    return c;\n}\n"
+            .to_string(),
+        Some(f) => format!(
+            "// Exponential fog.\n\
+             fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {{\n    return mix({}, c, exp(-{} * t));\n}}\n",
+            vec3(f.color),
+            float(f.density)
+        ),
+    }
+}

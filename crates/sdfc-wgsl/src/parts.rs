@@ -1,0 +1,24 @@
+//! The hand-written WGSL parts in `shaders/`, included at build time.
+
+use sdfc_ir::ops::Helper;
+
+pub fn helper(h: Helper) -> &'static str {
+    match h {
+        Helper::SdSphere => include_str!("../../../shaders/prims/sd_sphere.wgsl"),
+        Helper::SdBox => include_str!("../../../shaders/prims/sd_box.wgsl"),
+        Helper::SdRoundBox => include_str!("../../../shaders/prims/sd_round_box.wgsl"),
+        Helper::SdTorus => include_str!("../../../shaders/prims/sd_torus.wgsl"),
+        Helper::SdCylinder => include_str!("../../../shaders/prims/sd_cylinder.wgsl"),
+        Helper::SdCapsule => include_str!("../../../shaders/prims/sd_capsule.wgsl"),
+    }
+}
+
+pub const HIT: &str = include_str!("../../../shaders/hit.wgsl");
+pub const MARCH_PLAIN: &str = include_str!("../../../shaders/march_plain.wgsl");
+pub const MARCH_RELAXED: &str = include_str!("../../../shaders/march_relaxed.wgsl");
+pub const CAMERA: &str = include_str!("../../../shaders/camera.wgsl");
+pub const MAIN: &str = include_str!("../../../shaders/main.wgsl");
+pub const SAFE_NORMALIZE: &str = include_str!("../../../shaders/normals/safe_normalize.wgsl");
+pub const NORMALS_TETRAHEDRON: &str = include_str!("../../../shaders/normals/tetrahedron.wgsl");
+pub const NORMALS_CENTRAL: &str = include_str!("../../../shaders/normals/central.wgsl");
+pub const NORMALS_FORWARD: &str = include_str!("../../../shaders/normals/forward.wgsl");

@@ -1,0 +1,56 @@
+// The entry point: one invocation per pixel, n x n samples, colour packed as RGBA8 (row
+// major, top row first); with bit 0 of `frame.flags` set it also writes the AOVs of the
+// pixel centre's ray: (normal, depth) then (steps, 0, 0, 0), depth -1 on a miss.
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = frame.resolution;
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    load_frame();
+    let fsize = vec2<f32>(size);
+    // Angle subtended by one pixel: the surface threshold of `epsilon: pixel` grows with it.
+    let pixel = 2.0 * TAN_HALF_FOV / fsize.y;
+    var color = vec3<f32>(0.0);
+    for (var sy = 0u; sy < ANTIALIAS; sy = sy + 1u) {
+        for (var sx = 0u; sx < ANTIALIAS; sx = sx + 1u) {
+            let offset = (vec2<f32>(f32(sx), f32(sy)) + 0.5) / f32(ANTIALIAS);
+            let rd = camera_ray(vec2<f32>(gid.xy) + offset, fsize);
+            let hit = march(CAMERA_POSITION, rd, pixel);
+            color = color + radiance(CAMERA_POSITION, rd, hit, pixel);
+        }
+    }
+    color = color / f32(ANTIALIAS * ANTIALIAS);
+    let mapped = pow(clamp(color, vec3<f32>(0.0), vec3<f32>(1.0)), vec3<f32>(INV_GAMMA));
+    let index = gid.y * size.x + gid.x;
+    color_out[index] = pack4x8unorm(vec4<f32>(mapped, 1.0));
+    if (frame.flags & 1u) != 0u {
+        let rd = camera_ray(vec2<f32>(gid.xy) + 0.5, fsize);
+        let hit = march(CAMERA_POSITION, rd, pixel);
+        var aov = vec4<f32>(0.0, 0.0, 0.0, -1.0);
+        if hit.hit {
+            let p = CAMERA_POSITION + rd * hit.t;
+            aov = vec4<f32>(scene_normal(p, normal_step(p, hit.t, pixel)), hit.t);
+        }
+        aov_out[2u * index] = aov;
+        aov_out[2u * index + 1u] = vec4<f32>(f32(hit.steps), 0.0, 0.0, 0.0);
+    }
+}
+
+// The colour a ray brings back: the shaded surface it hit, or the background.
+fn radiance(ro: vec3<f32>, rd: vec3<f32>, hit: Hit, pixel: f32) -> vec3<f32> {
+    if !hit.hit {
+        return BACKGROUND;
+    }
+    let p = ro + rd * hit.t;
+    let n = scene_normal(p, normal_step(p, hit.t, pixel));
+    let material = scene_material(p);
+    return finish(shade(p, n, rd, material), hit.t);
+}
+
+// The finite-difference step for normals: about the surface threshold, and never below what
+// f32 can resolve at this distance from the origin.
+fn normal_step(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
+    let scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
+    return max(0.5 * surface_epsilon(t, pixel), 4e-6 * scale);
+}

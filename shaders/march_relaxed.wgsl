@@ -1,0 +1,31 @@
+// Over-relaxed sphere tracing (Keinert et al. 2014): steps of RELAXATION times the distance
+// while consecutive unbounding spheres overlap; when they stop overlapping the step has
+// overshot, so it is taken back and marching goes on plainly.
+fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
+    var t = 0.0;
+    var steps = 0u;
+    var omega = RELAXATION;
+    var prev_radius = 0.0;
+    var step = 0.0;
+    loop {
+        if steps >= MAX_STEPS || t > MAX_DISTANCE {
+            break;
+        }
+        let d = scene_distance(ro + rd * t);
+        steps = steps + 1u;
+        let radius = abs(d);
+        let overshot = omega > 1.0 && radius + prev_radius < step;
+        if overshot {
+            step = step - omega * step;
+            omega = 1.0;
+        } else {
+            if d < surface_epsilon(t, pixel) {
+                return refine(ro, rd, t, d, steps);
+            }
+            step = d * omega;
+        }
+        prev_radius = radius;
+        t = t + step;
+    }
+    return Hit(t, steps, false);
+}

@@ -87,7 +87,10 @@ pub enum ExprKind {
     /// `e.xz` and the like; the swizzle letters are checked when lowering.
     Swizzle(Box<Expr>, Ident),
     /// `|p| EXPR` or `|x, z| EXPR`.
-    Lambda { params: Vec<Ident>, body: Box<Expr> },
+    Lambda {
+        params: Vec<Ident>,
+        body: Box<Expr>,
+    },
 }
 
 /// A call argument, positional or `name: value`.

@@ -94,7 +94,12 @@ pub fn render(file_name: &str, source: &str, diagnostics: &[Diagnostic]) -> Stri
 }
 
 /// As [`render`], with ANSI colours when `color` is true.
-pub fn render_with(file_name: &str, source: &str, diagnostics: &[Diagnostic], color: bool) -> String {
+pub fn render_with(
+    file_name: &str,
+    source: &str,
+    diagnostics: &[Diagnostic],
+    color: bool,
+) -> String {
     let file = SimpleFile::new(file_name, source);
     let mut buffer = if color {
         Buffer::ansi()

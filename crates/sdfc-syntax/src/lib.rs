@@ -2,9 +2,9 @@
 //! with spans, diagnostics, and an AST dump for golden tests. No pest type is public.
 //!
 //! Limits the parser guarantees to later stages: a source is at most [`MAX_SOURCE_BYTES`],
-//! brackets nest at most [`MAX_NESTING`] deep, lambdas nest at most [`MAX_NESTING`] deep, and
-//! every expression tree is at most [`MAX_EXPR_DEPTH`] nodes deep, so recursive passes over the
-//! AST need only a bounded stack.
+//! brackets and lambdas together nest at most [`MAX_NESTING`] deep, and every expression tree
+//! is at most [`MAX_EXPR_DEPTH`] nodes deep, so recursive passes over the AST (and its `Drop`)
+//! need only a bounded stack.
 
 pub mod ast;
 pub mod diag;
@@ -19,7 +19,9 @@ mod syntax_error;
 /// The largest source file accepted, in bytes.
 pub const MAX_SOURCE_BYTES: usize = 1 << 20;
 
-/// The deepest nesting of `( [ {` brackets accepted (and of lambdas inside lambdas).
+/// The deepest nesting of `( [ {` brackets accepted; a lambda whose body is still open counts
+/// as one level too. Checked by a cheap scan before parsing, so deep input cannot exhaust the
+/// parser's stack.
 pub const MAX_NESTING: usize = 128;
 
 /// The deepest expression tree accepted: `a | b | c | ...` with more than this many operands,
@@ -32,5 +34,30 @@ pub const MAX_EXPR_DEPTH: usize = 256;
 /// An empty or blank file parses to an empty [`ast::File`]; whether it has a `scene` is for the
 /// later stages to check.
 pub fn parse(source: &str) -> Result<ast::File, Vec<diag::Diagnostic>> {
-    parser::parse(source)
+    // The parser recurses once per nesting level, and at MAX_NESTING an unoptimised build needs
+    // up to about 2 MiB of stack, as much as a whole test thread has. So it runs on its own
+    // thread with a stack that is ample whatever the caller's is (the memory is only reserved,
+    // not used).
+    std::thread::scope(|scope| {
+        let spawned = std::thread::Builder::new()
+            .name("sdfc-parse".to_string())
+            .stack_size(PARSER_STACK_BYTES)
+            .spawn_scoped(scope, || parser::parse(source));
+        match spawned {
+            Ok(handle) => handle.join().unwrap_or_else(|_| {
+                Err(vec![diag::Diagnostic::error(
+                    span::Span::new(0, 0),
+                    "internal parser error: the parser panicked",
+                )
+                .with_hint(
+                    "this is a bug in sdfc; please report it with the input",
+                )])
+            }),
+            // No thread to be had: parse on this one.
+            Err(_) => parser::parse(source),
+        }
+    })
 }
+
+/// The stack of the parser's thread.
+const PARSER_STACK_BYTES: usize = 16 << 20;

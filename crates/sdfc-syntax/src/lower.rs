@@ -6,10 +6,10 @@ use crate::ast::*;
 use crate::diag::Diagnostic;
 use crate::parser::Rule;
 use crate::span::Span;
-use crate::{MAX_EXPR_DEPTH, MAX_NESTING};
+use crate::MAX_EXPR_DEPTH;
 use pest::iterators::{Pair, Pairs};
 use pest::pratt_parser::{Assoc, Op, PrattParser};
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
 
 /// The binary operators, lowest precedence first; each line is one level, all left-associative.
 pub(crate) fn pratt() -> PrattParser<Rule> {
@@ -17,7 +17,12 @@ pub(crate) fn pratt() -> PrattParser<Rule> {
     PrattParser::new()
         .op(l(Rule::op_or))
         .op(l(Rule::op_and))
-        .op(l(Rule::op_lt) | l(Rule::op_le) | l(Rule::op_gt) | l(Rule::op_ge) | l(Rule::op_eq) | l(Rule::op_ne))
+        .op(l(Rule::op_lt)
+            | l(Rule::op_le)
+            | l(Rule::op_gt)
+            | l(Rule::op_ge)
+            | l(Rule::op_eq)
+            | l(Rule::op_ne))
         .op(l(Rule::op_add) | l(Rule::op_sub))
         .op(l(Rule::op_mul) | l(Rule::op_div) | l(Rule::op_rem))
 }
@@ -39,7 +44,6 @@ pub(crate) struct Lower<'p> {
     offset: usize,
     pratt: &'p PrattParser<Rule>,
     pub(crate) diags: RefCell<Vec<Diagnostic>>,
-    lambdas: Cell<usize>,
 }
 
 impl<'p> Lower<'p> {
@@ -48,7 +52,6 @@ impl<'p> Lower<'p> {
             offset,
             pratt,
             diags: RefCell::new(Vec::new()),
-            lambdas: Cell::new(0),
         }
     }
 
@@ -176,11 +179,13 @@ impl<'p> Lower<'p> {
         for p in pairs.filter(|p| p.as_rule() == Rule::field) {
             let span = self.span(&p);
             let mut inner = p.into_inner();
-            let field = self.expect(&mut inner, Rule::field_name, span).and_then(|n| {
-                let name = self.ident(&n);
-                let value = self.expr(self.expect(&mut inner, Rule::expr, span)?)?;
-                Ok(Field { name, value })
-            });
+            let field = self
+                .expect(&mut inner, Rule::field_name, span)
+                .and_then(|n| {
+                    let name = self.ident(&n);
+                    let value = self.expr(self.expect(&mut inner, Rule::expr, span)?)?;
+                    Ok(Field { name, value })
+                });
             match field {
                 Ok(f) => fields.push(f),
                 Err(Stop) => failed = true,
@@ -411,16 +416,6 @@ impl<'p> Lower<'p> {
     fn lambda(&self, pair: Pair<'_, Rule>) -> R<Node> {
         let span = self.span(&pair);
         let head = Span::new(span.start as usize, span.start as usize + 1);
-        let level = self.lambdas.get() + 1;
-        if level > MAX_NESTING {
-            return Err(self.error(
-                Diagnostic::error(
-                    head,
-                    format!("lambdas are nested too deeply (more than {MAX_NESTING} levels)"),
-                )
-                .with_label("too deep from here"),
-            ));
-        }
         let mut params = Vec::new();
         let mut body = None;
         for p in pair.into_inner() {
@@ -431,10 +426,7 @@ impl<'p> Lower<'p> {
             }
         }
         let body = body.ok_or_else(|| self.internal(span, "lambda without a body"))?;
-        self.lambdas.set(level);
-        let body = self.expr_node(body);
-        self.lambdas.set(level - 1);
-        let body = body?;
+        let body = self.expr_node(body)?;
         // From the first `|` to the end of the body (the pair may end in skipped whitespace).
         let span = head.to(body.expr.span);
         self.node(

@@ -82,3 +82,23 @@ fn internal(pos: usize, what: &str) -> Diagnostic {
     )
     .with_hint("this is a bug in sdfc; please report it with the input")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The whole-file rule documents the same language the item-by-item driver parses.
+    #[test]
+    fn file_rule_matches_the_driver() {
+        let corpus = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/corpus/");
+        for name in ["constructs.sdf", "spec_section10.sdf"] {
+            let src = std::fs::read_to_string(format!("{corpus}{name}")).unwrap();
+            assert!(SdfParser::parse(Rule::file, &src).is_ok(), "{name}");
+            assert!(parse(&src).is_ok(), "{name}");
+        }
+        for bad in ["let a = 1", "scene = ;", "material m { a: 1 };", "x"] {
+            assert!(SdfParser::parse(Rule::file, bad).is_err(), "{bad}");
+            assert!(parse(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -96,29 +96,74 @@ pub(crate) fn precheck(source: &str) -> Result<(), Diagnostic> {
             source.len()
         )));
     }
+    // Nesting counts open brackets plus lambdas whose body has not ended: those are the only
+    // constructs the grammar (and every pass over the tree) recurses on. A lambda head is a `|`
+    // where an operand is expected; its body ends at the `,`, `;` or closing bracket of the
+    // bracket level it is in.
+    let too_deep = |i: usize, what: &str| {
+        Diagnostic::error(
+            Span::new(i, i + 1),
+            format!("{what}s are nested too deeply (more than {MAX_NESTING} levels)"),
+        )
+        .with_label(format!("this {what} is too deep"))
+        .with_hint("split the expression into smaller pieces with `let`")
+    };
     let mut depth = 0usize;
+    let mut lambdas: Vec<usize> = vec![0]; // open lambdas per bracket level
+    let mut prev = b';';
+    let mut in_head = false;
     let mut bytes = Bytes::new(source, 0);
     for (i, b) in bytes.by_ref() {
+        if in_head {
+            if is_ident_char(b) || b == b',' {
+                prev = b;
+                continue;
+            }
+            in_head = false;
+            if b == b'|' {
+                prev = b;
+                continue;
+            }
+        }
+        // `lambdas` always holds at least the top level.
+        let open_here = |lambdas: &mut Vec<usize>| lambdas.last_mut().map_or(0, std::mem::take);
         match b {
             b'(' | b'[' | b'{' => {
                 depth += 1;
                 if depth > MAX_NESTING {
-                    return Err(Diagnostic::error(
-                        Span::new(i, i + 1),
-                        format!("brackets are nested too deeply (more than {MAX_NESTING} levels)"),
-                    )
-                    .with_label("this bracket is too deep")
-                    .with_hint("split the expression into smaller pieces with `let`"));
+                    return Err(too_deep(i, "bracket"));
                 }
+                lambdas.push(0);
             }
-            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+            b')' | b']' | b'}' => {
+                let mut closed = open_here(&mut lambdas);
+                if lambdas.len() > 1 {
+                    lambdas.pop();
+                    closed += 1;
+                }
+                depth = depth.saturating_sub(closed);
+            }
+            b',' | b';' => depth = depth.saturating_sub(open_here(&mut lambdas)),
+            b'|' if b"([{,:=|&+-*/%<>!;".contains(&prev) => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(too_deep(i, "lambda"));
+                }
+                if let Some(n) = lambdas.last_mut() {
+                    *n += 1;
+                }
+                in_head = true;
+            }
             _ => {}
         }
+        prev = b;
     }
     if let Some(i) = bytes.unterminated {
-        return Err(Diagnostic::error(Span::new(i, i + 2), "unterminated block comment")
-            .with_label("this comment is never closed")
-            .with_hint("a block comment ends with `*/` (block comments do not nest)"));
+        return Err(
+            Diagnostic::error(Span::new(i, i + 2), "unterminated block comment")
+                .with_label("this comment is never closed")
+                .with_hint("a block comment ends with `*/` (block comments do not nest)"),
+        );
     }
     Ok(())
 }
@@ -180,8 +225,7 @@ fn is_item_head(source: &str, i: usize) -> bool {
         }
         "camera" | "render" => next == Some(b'{'),
         "scene" => {
-            next == Some(b'=')
-                && after_space.and_then(|n| rest.get(n + 1)).copied() != Some(b'=')
+            next == Some(b'=') && after_space.and_then(|n| rest.get(n + 1)).copied() != Some(b'=')
         }
         _ => false,
     }
@@ -217,7 +261,10 @@ pub(crate) fn token_at(source: &str, pos: usize) -> Option<(Span, &str)> {
     ) {
         2
     } else {
-        source[pos..].chars().next().map_or(1, char::len_utf8)
+        source
+            .get(pos..)
+            .and_then(|s| s.chars().next())
+            .map_or(1, char::len_utf8)
     };
     let end = (pos + len).min(source.len());
     Some((Span::new(pos, end), source.get(pos..end).unwrap_or("?")))
@@ -247,7 +294,7 @@ pub(crate) fn word_before(source: &str, end: usize) -> (usize, &str) {
         .take_while(|&&b| is_ident_char(b))
         .count();
     let start = end - n;
-    if bytes.get(start).copied().is_some_and(is_ident_start) {
+    if n > 0 && bytes.get(start).copied().is_some_and(is_ident_start) {
         (start, &source[start..end])
     } else {
         (end, "")
@@ -303,6 +350,23 @@ mod tests {
         assert_eq!(resync(src, 0, 10), src.len());
         assert!(precheck("/* ( ( ( */").is_ok());
         assert!(precheck("/* never closed").is_err());
+    }
+
+    #[test]
+    fn nesting_counts_brackets_and_lambdas() {
+        let deep = |n: usize, unit: &str| format!("scene = f({});", unit.repeat(n));
+        assert!(precheck(&deep(MAX_NESTING - 1, "|p| ")).is_ok());
+        assert!(precheck(&deep(MAX_NESTING, "|p| ")).is_err());
+        assert!(precheck(&deep(MAX_NESTING / 2 - 1, "|p| f(")).is_ok());
+        assert!(precheck(&deep(MAX_NESTING / 2, "|p| f(")).is_err());
+        // lambdas side by side do not nest
+        let wide = format!("scene = f({});", "|p| p, ".repeat(1000));
+        assert!(precheck(&wide).is_ok());
+        let wide = format!("scene = {};", "f(|x, z| x | z) | ".repeat(1000));
+        assert!(precheck(&wide).is_ok());
+        // `|` as an operator is not a lambda
+        let ors = format!("scene = {};", "a | ".repeat(1000));
+        assert!(precheck(&ors).is_ok());
     }
 
     #[test]

@@ -37,7 +37,10 @@ impl Expected {
             Expected::Member => (6, 0),
             Expected::Token(t) => {
                 let order = [";", "=", ":", ",", "|", "(", "[", "{", ")", "]", "}"];
-                (7, order.iter().position(|o| *o == t).unwrap_or(order.len()) as u8)
+                (
+                    7,
+                    order.iter().position(|o| *o == t).unwrap_or(order.len()) as u8,
+                )
             }
             Expected::Operator => (8, 0),
             Expected::EndOfFile => (9, 0),
@@ -281,8 +284,10 @@ fn hint(
         if let Some((at, open)) = scan::unclosed_bracket(source, offset, pos) {
             let open = char::from(open);
             let (line, col) = crate::diag::line_col(source, at);
-            d.secondary
-                .push((Span::new(at, at + 1), format!("this `{open}` is never closed")));
+            d.secondary.push((
+                Span::new(at, at + 1),
+                format!("this `{open}` is never closed"),
+            ));
             return Some(format!(
                 "add `{closer}` to close the `{open}` at line {line}, column {col}"
             ));
@@ -304,8 +309,9 @@ fn hint(
     }
 
     if wants(Expected::Item) {
-        if found == Some(";") && scan::prev_token_end(source, context, pos)
-            .is_some_and(|end| source.as_bytes().get(end - 1) == Some(&b'}'))
+        if found == Some(";")
+            && scan::prev_token_end(source, context, pos)
+                .is_some_and(|end| source.as_bytes().get(end - 1) == Some(&b'}'))
         {
             return Some(
                 "`material`, `light`, `camera` and `render` blocks do not end with `;`; remove it"

@@ -11,9 +11,7 @@ fn render(source: &str) -> String {
 
 #[test]
 fn missing_semicolon() {
-    insta::assert_snapshot!(render(
-        "let r = 1\nscene = sphere(r);\n"
-    ));
+    insta::assert_snapshot!(render("let r = 1\nscene = sphere(r);\n"));
 }
 
 #[test]

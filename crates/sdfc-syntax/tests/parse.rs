@@ -111,14 +111,20 @@ fn binary_operators_are_left_associative() {
 fn unary_and_postfix() {
     assert_eq!(shape("--a"), "(neg (neg a))");
     assert_eq!(shape("a - -b"), "(- a (neg b))");
-    assert_eq!(shape("-sphere(1).translate(v)"), "(neg (.translate (sphere 1) v))");
+    assert_eq!(
+        shape("-sphere(1).translate(v)"),
+        "(neg (.translate (sphere 1) v))"
+    );
     assert_eq!(shape("(a + b).xz"), "(.xz (+ a b))");
     assert_eq!(shape("v.x.y"), "(.y (.x v))");
 }
 
 #[test]
 fn lambda_body_extends_as_far_as_possible() {
-    assert_eq!(shape("f(|p| p.x + 1 | q, 2)"), "(f (|p| (| (+ (.x p) 1) q)) 2)");
+    assert_eq!(
+        shape("f(|p| p.x + 1 | q, 2)"),
+        "(f (|p| (| (+ (.x p) 1) q)) 2)"
+    );
     assert_eq!(shape("f(|x, z| x * z)"), "(f (|x,z| (* x z)))");
     assert_eq!(shape("a | |p| p"), "(| a (|p| p))");
 }
@@ -197,10 +203,7 @@ fn booleans_and_vectors() {
 
 #[test]
 fn named_arguments_keep_source_order() {
-    assert_eq!(
-        shape("f(a, smooth: 1, b, k: 2)"),
-        "(f a smooth:1 b k:2)"
-    );
+    assert_eq!(shape("f(a, smooth: 1, b, k: 2)"), "(f a smooth:1 b k:2)");
     assert_eq!(shape("s.f(x, k: 1)"), "(.f s x k:1)");
     assert_eq!(shape("f()"), "(f)");
     assert_eq!(shape("s.f()"), "(.f s)");
@@ -325,7 +328,10 @@ fn comments() {
     let src = "/* a /* b */ let /* c */ a = // d\n 1 /**/;// e";
     let file = parse_ok(src);
     assert_eq!(file.items.len(), 1);
-    assert_eq!(text(src, file.items[0].span), "let /* c */ a = // d\n 1 /**/;");
+    assert_eq!(
+        text(src, file.items[0].span),
+        "let /* c */ a = // d\n 1 /**/;"
+    );
     parse_ok("let a = 1; // comment at the end without a newline");
     parse_ok("let a = 1;/**/");
     parse_ok("let a = 4 //comment\n / 2;");
@@ -343,7 +349,13 @@ fn block_comments_do_not_nest() {
 
 #[test]
 fn empty_and_blank_files() {
-    for src in ["", "   \n\t\r\n", "// only a comment", "/* block */", "\u{FEFF}"] {
+    for src in [
+        "",
+        "   \n\t\r\n",
+        "// only a comment",
+        "/* block */",
+        "\u{FEFF}",
+    ] {
         assert_eq!(parse_ok(src).items.len(), 0, "{src:?}");
     }
     parse_ok("\u{FEFF}let a = 1;");
@@ -410,7 +422,11 @@ fn corpus_spans_are_exact() {
             let mut exprs = Vec::new();
             let mut idents = Vec::new();
             match &item.kind {
-                ItemKind::Let { name, value } | ItemKind::Param { name, default: value } => {
+                ItemKind::Let { name, value }
+                | ItemKind::Param {
+                    name,
+                    default: value,
+                } => {
                     idents.push(name);
                     exprs.push(value);
                 }
@@ -447,7 +463,9 @@ fn corpus_spans_are_exact() {
                         idents.push(n);
                         assert!(parens || t == n.name);
                     }
-                    ExprKind::Number(_) => assert!(t.as_bytes()[0].is_ascii_digit() || t.starts_with('.')),
+                    ExprKind::Number(_) => {
+                        assert!(t.as_bytes()[0].is_ascii_digit() || t.starts_with('.'))
+                    }
                     ExprKind::Bool(b) => assert_eq!(t, b.to_string()),
                     ExprKind::Vector(xs) => {
                         assert!(t.starts_with('[') && t.ends_with(']'));
@@ -467,7 +485,11 @@ fn corpus_spans_are_exact() {
                         exprs.push(l);
                         exprs.push(r);
                     }
-                    ExprKind::Call { callee, args, method } => {
+                    ExprKind::Call {
+                        callee,
+                        args,
+                        method,
+                    } => {
                         idents.push(callee);
                         assert!(t.ends_with(')'));
                         if *method && !parens {
@@ -551,10 +573,11 @@ fn messages_say_what_was_expected_in_words() {
 // ---------------------------------------------------------------------------------------------
 // Limits: nothing deep or large may overflow the stack or panic
 
-/// Runs `f` on a thread with a small stack (512 KiB) to prove the parser needs little.
+/// Runs `f` on a thread with a small stack (256 KiB): the parser must not depend on the
+/// caller's stack.
 fn small_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
     std::thread::Builder::new()
-        .stack_size(512 * 1024)
+        .stack_size(256 * 1024)
         .spawn(f)
         .unwrap()
         .join()
@@ -562,15 +585,24 @@ fn small_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
 }
 
 #[test]
-fn nesting_at_the_limit_parses() {
-    let n = MAX_NESTING;
-    let src = format!("scene = {}1{};", "(".repeat(n), ")".repeat(n));
-    let file = parse_ok(&src);
-    assert_eq!(file.items.len(), 1);
-    let src = format!("scene = {}1{};", "f(".repeat(n), ")".repeat(n));
-    parse_ok(&src);
-    let src = format!("scene = {}1{};", "[".repeat(n), "]".repeat(n));
-    parse_ok(&src);
+fn nesting_at_the_limit_parses_whatever_the_callers_stack() {
+    small_stack(|| {
+        let n = MAX_NESTING;
+        for src in [
+            format!("scene = {}1{};", "(".repeat(n), ")".repeat(n)),
+            format!("scene = {}1{};", "f(".repeat(n), ")".repeat(n)),
+            format!("scene = {}1{};", "x.f(".repeat(n), ")".repeat(n)),
+            format!("scene = {}1{};", "[".repeat(n), "]".repeat(n)),
+            format!("scene = f({}1);", "|p| ".repeat(n - 1)),
+            format!(
+                "scene = {}1{};",
+                "f(k: -(".repeat(n / 2),
+                "))".repeat(n / 2)
+            ),
+        ] {
+            assert_eq!(parse_ok(&src).items.len(), 1);
+        }
+    });
 }
 
 #[test]
@@ -583,7 +615,11 @@ fn nesting_past_the_limit_is_one_diagnostic() {
     // and a mixture of kinds counts together, ignoring comments
     let src = format!("scene = {}1;", "([{".repeat(50));
     assert_eq!(parse_err(&src).len(), 1);
-    let src = format!("scene = 1; /* {} */ // {}", "(".repeat(500), "[".repeat(500));
+    let src = format!(
+        "scene = 1; /* {} */ // {}",
+        "(".repeat(500),
+        "[".repeat(500)
+    );
     parse_ok(&src);
 }
 
@@ -591,12 +627,12 @@ fn nesting_past_the_limit_is_one_diagnostic() {
 fn deep_input_never_overflows_the_stack() {
     small_stack(|| {
         let cases = [
-            format!("scene = {}1;", "-".repeat(500_000)),
-            format!("scene = {}a;", "a|".repeat(300_000)),
-            format!("scene = {}a;", "|a|".repeat(300_000)),
+            format!("scene = {}1;", "-".repeat(50_000)),
+            format!("scene = {}a;", "a|".repeat(50_000)),
+            format!("scene = {}a;", "|a|".repeat(50_000)),
             format!("scene = {}a;", "|a| ".repeat(200)),
-            format!("scene = x{};", ".f()".repeat(100_000)),
-            format!("scene = x{};", ".x".repeat(100_000)),
+            format!("scene = x{};", ".f()".repeat(20_000)),
+            format!("scene = x{};", ".x".repeat(20_000)),
             format!("scene = {}", "(".repeat(1_000_000)),
         ];
         for src in &cases {
@@ -612,9 +648,9 @@ fn long_but_shallow_input_is_fine() {
     let n = MAX_EXPR_DEPTH - 1;
     parse_ok(&format!("scene = a{};", " | a".repeat(n)));
     parse_ok(&format!("scene = {}1;", "-".repeat(n)));
-    parse_ok(&format!("scene = [{}1];", "1, ".repeat(100_000)));
-    parse_ok(&format!("scene = union({}a);", "a, ".repeat(100_000)));
-    parse_ok(&"let a = 1;\n".repeat(20_000));
+    parse_ok(&format!("scene = [{}1];", "1, ".repeat(30_000)));
+    parse_ok(&format!("scene = union({}a);", "a, ".repeat(30_000)));
+    parse_ok(&"let a = 1;\n".repeat(5_000));
     assert!(parse(&format!("scene = a{};", " | a".repeat(n + 1))).is_err());
 }
 
@@ -651,7 +687,10 @@ impl Lcg {
 
 #[test]
 fn no_panic_on_any_prefix_of_the_corpus() {
-    let path = format!("{}/../../tests/corpus/constructs.sdf", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../../tests/corpus/spec_section10.sdf",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let src = std::fs::read_to_string(path).unwrap();
     for end in (0..=src.len()).filter(|&i| src.is_char_boundary(i)) {
         let prefix = &src[..end];
@@ -688,12 +727,15 @@ fn no_panic_on_token_soup() {
 
 #[test]
 fn no_panic_on_mutated_corpus() {
-    let path = format!("{}/../../tests/corpus/spec_section10.sdf", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../../tests/corpus/spec_section10.sdf",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let src = std::fs::read_to_string(path).unwrap();
     let bytes = src.as_bytes();
     let mut rng = Lcg(42);
     let alphabet = b"()[]{}|&;,.:=-+*/%<>!0123456789eE_azAZ \n\t";
-    for _ in 0..1500 {
+    for _ in 0..400 {
         let mut m = bytes.to_vec();
         for _ in 0..1 + rng.next() % 4 {
             let i = rng.next() % m.len();
@@ -708,7 +750,10 @@ fn no_panic_on_mutated_corpus() {
         let s = String::from_utf8_lossy(&m);
         if let Err(d) = parse(&s) {
             assert!(!d.is_empty());
-            assert!(d.iter().all(|d| !d.message.contains("internal")), "{s}: {d:?}");
+            assert!(
+                d.iter().all(|d| !d.message.contains("internal")),
+                "{s}: {d:?}"
+            );
         }
     }
 }

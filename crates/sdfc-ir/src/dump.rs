@@ -30,6 +30,7 @@ fn op_text(op: &Op) -> String {
         Op::Builtin(b) => b.name().to_string(),
         Op::Helper(h) => h.name().to_string(),
         Op::Swizzle(s) => format!("swizzle .{}", s.letters()),
+        Op::Call { func, result } => format!("call group{func}.{result}"),
         other => format!("{other:?}").to_lowercase(),
     }
 }

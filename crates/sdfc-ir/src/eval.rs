@@ -1,6 +1,7 @@
 //! Evaluates IR operations on concrete values: f32 for constant folding (what the GPU
 //! computes), f64 for the reference evaluator behind `sdfc eval`.
 
+use crate::func::Func;
 use crate::graph::{Graph, NodeId};
 use crate::ops::{Builtin, Helper, Op};
 use crate::types::Ty;
@@ -25,8 +26,18 @@ impl<T: Float> Inputs<T> {
 }
 
 /// Evaluates the roots of a graph. Every reachable node must be computable from `inputs`
-/// (a lambda argument left in the graph evaluates to zero).
+/// (a lambda argument left in the graph evaluates to zero; so does a group call: use
+/// [`eval_func`] for functions that call groups).
 pub fn eval_graph<T: Float>(g: &Graph, roots: &[NodeId], inputs: &Inputs<T>) -> Vec<Value<T>> {
+    eval_graph_in(g, roots, inputs, &[])
+}
+
+/// Evaluates a function of a program, whose group functions are `groups`.
+pub fn eval_func<T: Float>(f: &Func, groups: &[Func], inputs: &Inputs<T>) -> Vec<Value<T>> {
+    eval_graph_in(&f.graph, &f.results, inputs, groups)
+}
+
+fn eval_graph_in<T: Float>(g: &Graph, roots: &[NodeId], inputs: &Inputs<T>, groups: &[Func]) -> Vec<Value<T>> {
     let mut vals: Vec<Option<Value<T>>> = vec![None; g.len()];
     let mut need = vec![false; g.len()];
     for r in roots {
@@ -58,6 +69,14 @@ pub fn eval_graph<T: Float>(g: &Graph, roots: &[NodeId], inputs: &Inputs<T>) -> 
                 .copied()
                 .unwrap_or_else(|| zero_of(node.ty)),
             Op::LambdaArg { .. } => zero_of(node.ty),
+            Op::Call { func, result } => match (groups.get(func as usize), args.first()) {
+                (Some(f), Some(Value::V3(p))) => {
+                    let sub = Inputs { point: *p, params: inputs.params.clone(), time: inputs.time };
+                    let r = eval_graph_in(&f.graph, &f.results, &sub, groups);
+                    r.get(result as usize).copied().unwrap_or_else(|| zero_of(node.ty))
+                }
+                _ => zero_of(node.ty),
+            },
             op => apply(op, node.ty, &args),
         };
         vals[i] = Some(v);
@@ -80,7 +99,7 @@ pub fn apply<T: Float>(op: Op, ty: Ty, a: &[Value<T>]) -> Value<T> {
     };
     match op {
         Op::Const(c) => c.to_value().cast(),
-        Op::Point | Op::Time | Op::Param(_) | Op::LambdaArg { .. } => zero_of(ty),
+        Op::Point | Op::Time | Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => zero_of(ty),
         Op::Neg => a[0].map(|x| -x),
         Op::Add => zip(&a[0], &a[1], |x, y| x + y),
         Op::Sub => zip(&a[0], &a[1], |x, y| x - y),

@@ -6,7 +6,19 @@ use crate::graph::{Graph, NodeId};
 /// input `p` (`Op::Point`), the params and time.
 #[derive(Clone, Debug)]
 pub struct Func {
-    pub name: &'static str,
+    pub name: String,
+    pub kind: FuncKind,
     pub graph: Graph,
     pub results: Vec<NodeId>,
+}
+
+/// What a function returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FuncKind {
+    /// One result: the distance.
+    Distance,
+    /// `scene_material`: albedo and phong.
+    Material,
+    /// A group of a material function: distance, albedo and phong.
+    MaterialGroup,
 }

@@ -77,6 +77,17 @@ impl Graph {
         Graph::default()
     }
 
+    /// An empty graph with room for `n` nodes (rebuilding passes know their size).
+    pub fn with_capacity(n: usize) -> Graph {
+        Graph {
+            nodes: Vec::with_capacity(n),
+            spans: Vec::with_capacity(n),
+            hints: Vec::with_capacity(n),
+            table: FxHashMap::with_capacity_and_hasher(n, Default::default()),
+            ill_typed: None,
+        }
+    }
+
     pub fn len(&self) -> usize {
         self.nodes.len()
     }
@@ -127,8 +138,12 @@ impl Graph {
         if let Some(&id) = self.table.get(&key) {
             return id;
         }
-        let arg_tys: Vec<Ty> = args.iter().map(|a| self.ty(*a)).collect();
-        let ty = match infer(op, &arg_tys) {
+        let mut arg_tys = [Ty::F32; 4];
+        for (t, a) in arg_tys.iter_mut().zip(args) {
+            *t = self.ty(*a);
+        }
+        let arg_tys = &arg_tys[..args.len().min(4)];
+        let ty = match infer(op, arg_tys) {
             Some(t) => t,
             None => {
                 if self.ill_typed.is_none() {
@@ -142,7 +157,12 @@ impl Graph {
 
     /// Adds an input node whose type is not implied by its operation (`Param`, `LambdaArg`).
     pub fn input(&mut self, op: Op, ty: Ty, span: Span) -> NodeId {
-        let key = (op, Args::new(&[]));
+        self.add_typed(op, &[], ty, span)
+    }
+
+    /// Adds (or finds) a node whose type the caller knows (inputs, calls).
+    pub fn add_typed(&mut self, op: Op, args: &[NodeId], ty: Ty, span: Span) -> NodeId {
+        let key = (op, Args::new(args));
         if let Some(&id) = self.table.get(&key) {
             return id;
         }
@@ -219,7 +239,7 @@ pub fn infer(op: Op, a: &[Ty]) -> Option<Ty> {
         }),
         Op::Point => Some(Vec3),
         Op::Time => Some(F32),
-        Op::Param(_) | Op::LambdaArg { .. } => None,
+        Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => None,
         Op::Neg => (a.len() == 1 && float(a[0])).then_some(a[0]),
         Op::Add | Op::Sub | Op::Mul | Op::Div | Op::Mod => {
             if a.len() != 2 {

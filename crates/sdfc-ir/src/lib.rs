@@ -29,6 +29,8 @@ pub struct Program {
     pub scene: Scene,
     pub distance: Func,
     pub material: Func,
+    /// Group functions called by `distance`, `material` and each other (`Op::Call`).
+    pub groups: Vec<Func>,
 }
 
 /// The IR at each stage, for golden tests and `--emit`.
@@ -47,10 +49,18 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
         return (None, diags);
     };
     let merged = passes::merge::run(&scene);
-    let (distance, e1) = passes::optimise(&to_ssa::distance_function(&merged));
-    let (material, e2) = passes::optimise(&to_ssa::material_function(&merged));
+    let funcs = to_ssa::functions(&merged);
+    let mut errors = Vec::new();
+    let mut opt = |f: &Func| {
+        let (f, e) = passes::optimise(f);
+        errors.extend(e);
+        f
+    };
+    let distance = opt(&funcs.distance);
+    let material = opt(&funcs.material);
+    let groups: Vec<Func> = funcs.groups.iter().map(&mut opt).collect();
     let mut seen = Vec::new();
-    for (span, msg) in e1.into_iter().chain(e2) {
+    for (span, msg) in errors {
         if !seen.contains(&span) {
             seen.push(span);
             diags.push(
@@ -60,7 +70,7 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
             );
         }
     }
-    for f in [&distance, &material] {
+    for f in [&distance, &material].into_iter().chain(&groups) {
         if let Some(what) = &f.graph.ill_typed {
             diags.push(Diagnostic::error(Default::default(), format!("internal compiler error: ill-typed IR in {}: {what}", f.name)));
         }
@@ -68,6 +78,6 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
     if diags.iter().any(|d| d.is_error()) {
         return (None, diags);
     }
-    let program = Program { scene: merged, distance, material };
+    let program = Program { scene: merged, distance, material, groups };
     (Some(Stages { lowered: scene, program }), diags)
 }

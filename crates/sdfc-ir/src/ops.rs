@@ -40,6 +40,9 @@ pub enum Op {
     MatMul,
     Transpose,
     Helper(Helper),
+    /// Result `result` of group function `func` of the program (see `Program::groups`),
+    /// called with the point; calls with equal arguments are one call in WGSL.
+    Call { func: u32, result: u8 },
 }
 
 /// Component selection, `.x` to `.zyx`; `idx[..len]` are the components.

@@ -2,7 +2,7 @@
 //! `scene_material(p)`: point maps become arithmetic on `p`, primitives become helper calls,
 //! combinations become `min`/`max` (and, for materials, selects and blends).
 
-use crate::func::Func;
+use crate::func::{Func, FuncKind};
 use crate::passes::fold::const_value;
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
@@ -16,23 +16,35 @@ use crate::value::Value;
 /// specular, shininess), both vec4.
 type Mat = [NodeId; 2];
 
-/// Builds `scene_distance`: one result, the distance.
-pub fn distance_function(scene: &Scene) -> Func {
-    let mut b = Builder::new(scene, false);
-    let p = b.g.op(Op::Point, &[]);
-    b.g.set_hint(p, "p");
-    let (d, _) = b.shape(scene.root, p, 0);
-    Func { name: "scene_distance", graph: b.g, results: vec![d] }
+/// Unions of more children than this are split into group functions of at most this many
+/// children each: WGSL front ends (naga's among them) slow down with the size of a single
+/// function, and the groups are where bounding-volume early-outs will go.
+pub const GROUP_SIZE: usize = 32;
+
+/// The scalar functions of a scene.
+pub struct Functions {
+    /// `scene_distance(p) -> f32`.
+    pub distance: Func,
+    /// `scene_material(p) -> SceneMaterial`: results albedo and phong.
+    pub material: Func,
+    /// Group functions that the two call (`Op::Call`), by index.
+    pub groups: Vec<Func>,
 }
 
-/// Builds `scene_material`: two results, albedo and phong coefficients.
-pub fn material_function(scene: &Scene) -> Func {
-    let mut b = Builder::new(scene, true);
-    let p = b.g.op(Op::Point, &[]);
-    b.g.set_hint(p, "p");
+/// Builds `scene_distance` and `scene_material` (and their group functions).
+pub fn functions(scene: &Scene) -> Functions {
+    let mut groups = Vec::new();
+    let mut b = Builder::new(scene, false, groups);
+    let p = b.point();
+    let (d, _) = b.shape(scene.root, p, 0);
+    let distance = Func { name: "scene_distance".into(), kind: FuncKind::Distance, graph: b.g, results: vec![d] };
+    groups = b.groups;
+    let mut b = Builder::new(scene, true, groups);
+    let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
     let m = m.unwrap_or_else(|| b.material_const(0));
-    Func { name: "scene_material", graph: b.g, results: m.to_vec() }
+    let material = Func { name: "scene_material".into(), kind: FuncKind::Material, graph: b.g, results: m.to_vec() };
+    Functions { distance, material, groups: b.groups }
 }
 
 struct Builder<'s> {
@@ -42,11 +54,45 @@ struct Builder<'s> {
     imported: FxHashMap<NodeId, NodeId>,
     memo: FxHashMap<(ShapeId, NodeId, u32), (NodeId, Option<Mat>)>,
     consts: FxHashMap<NodeId, Option<Value<f32>>>,
+    groups: Vec<Func>,
 }
 
 impl<'s> Builder<'s> {
-    fn new(scene: &'s Scene, materials: bool) -> Builder<'s> {
-        Builder { scene, g: Graph::new(), materials, imported: FxHashMap::default(), memo: FxHashMap::default(), consts: FxHashMap::default() }
+    fn new(scene: &'s Scene, materials: bool, groups: Vec<Func>) -> Builder<'s> {
+        Builder {
+            scene,
+            g: Graph::new(),
+            materials,
+            imported: FxHashMap::default(),
+            memo: FxHashMap::default(),
+            consts: FxHashMap::default(),
+            groups,
+        }
+    }
+
+    fn point(&mut self) -> NodeId {
+        let p = self.g.op(Op::Point, &[]);
+        self.g.set_hint(p, "p");
+        p
+    }
+
+    /// Builds a group function for a union of `children` and returns its call's results.
+    fn group(&mut self, children: &[ShapeId], p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
+        let mut sub = Builder::new(self.scene, self.materials, std::mem::take(&mut self.groups));
+        let sp = sub.point();
+        let (d, m) = sub.combine(CombineOp::Union, None, children, sp, mat);
+        let index = sub.groups.len() as u32;
+        let (kind, results, name) = match m {
+            Some(m) => (FuncKind::MaterialGroup, vec![d, m[0], m[1]], format!("scene_group{index}_material")),
+            None => (FuncKind::Distance, vec![d], format!("scene_group{index}")),
+        };
+        sub.groups.push(Func { name, kind, graph: sub.g, results });
+        self.groups = sub.groups;
+        let call = |g: &mut Graph, result: u8, ty: Ty| g.add_typed(Op::Call { func: index, result }, &[p], ty, Default::default());
+        let d = call(&mut self.g, 0, Ty::F32);
+        let d = self.hinted(d, "d");
+        let m = self.materials.then(|| [call(&mut self.g, 1, Ty::Vec4), call(&mut self.g, 2, Ty::Vec4)]);
+        (d, m)
     }
 
     /// Copies a value-graph node (and what it uses) into the function; lambda parameter
@@ -190,7 +236,14 @@ impl<'s> Builder<'s> {
     }
 
     fn combine(&mut self, op: CombineOp, smooth: Option<NodeId>, children: &[ShapeId], p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
-        let parts: Vec<(NodeId, Option<Mat>)> = children.iter().map(|c| self.shape(*c, p, mat)).collect();
+        let parts: Vec<(NodeId, Option<Mat>)> = if op == CombineOp::Union && smooth.is_none() && children.len() > GROUP_SIZE {
+            // Balanced groups of at most GROUP_SIZE children each.
+            let n = children.len().div_ceil(GROUP_SIZE);
+            let per = children.len().div_ceil(n);
+            children.chunks(per).map(|c| self.group(c, p, mat)).collect()
+        } else {
+            children.iter().map(|c| self.shape(*c, p, mat)).collect()
+        };
         let Some(&(mut d, mut m)) = parts.first() else {
             let far = self.f(1e30);
             return (far, self.materials.then(|| self.material_const(mat)));

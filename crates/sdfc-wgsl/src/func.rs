@@ -2,7 +2,7 @@
 //! (`q` points, `d` distances, `h` blend weights, `m` materials), constants and inputs inline.
 
 use crate::literal;
-use sdfc_ir::func::Func;
+use sdfc_ir::func::{Func, FuncKind};
 use sdfc_ir::graph::{Graph, NodeId};
 use sdfc_ir::ops::Op;
 use sdfc_ir::types::Ty;
@@ -20,14 +20,44 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
     }
 }
 
-/// Emits `fn NAME(p: vec3<f32>) -> RET { ... }`; `ret` turns the result expressions into
-/// the returned expression.
-pub fn emit(f: &Func, ret_ty: &str, ret: impl Fn(&[String]) -> String, doc: &str) -> String {
+/// Emits `fn NAME(p: vec3<f32>) -> RET { ... }` for a function of kind `f.kind`; `groups`
+/// are the program's group functions, which `Op::Call` nodes name.
+pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
+    let (ret_ty, ret): (&str, fn(&[String]) -> String) = match f.kind {
+        FuncKind::Distance => ("f32", |r| r[0].clone()),
+        FuncKind::Material => ("SceneMaterial", |r| format!("SceneMaterial({}, {})", r[0], r[1])),
+        FuncKind::MaterialGroup => ("SceneSample", |r| format!("SceneSample({}, {}, {})", r[0], r[1], r[2])),
+    };
     let g = &f.graph;
     let mut text: Vec<String> = vec![String::new(); g.len()];
     let mut counters: BTreeMap<&str, usize> = BTreeMap::new();
     let mut body = String::new();
+    // One WGSL call per (group, argument): its results are fields of one value.
+    let mut calls: BTreeMap<(u32, NodeId), String> = BTreeMap::new();
     for (id, node) in g.nodes() {
+        if let Op::Call { func, result } = node.op {
+            let arg = node.args()[0];
+            let Some(callee) = groups.get(func as usize) else { continue };
+            let value = match calls.get(&(func, arg)) {
+                Some(v) => v.clone(),
+                None => {
+                    let hint = if callee.kind == FuncKind::MaterialGroup { "s" } else { "d" };
+                    let n = counters.entry(hint).or_insert(0);
+                    let name = format!("{hint}{n}");
+                    *n += 1;
+                    let _ = writeln!(body, "    let {name} = {}({});", callee.name, text[arg.index()]);
+                    calls.insert((func, arg), name.clone());
+                    name
+                }
+            };
+            text[id.index()] = match (callee.kind, result) {
+                (FuncKind::MaterialGroup, 0) => format!("{value}.distance"),
+                (FuncKind::MaterialGroup, 1) => format!("{value}.albedo"),
+                (FuncKind::MaterialGroup, _) => format!("{value}.phong"),
+                _ => value,
+            };
+            continue;
+        }
         let args: Vec<&str> = node.args().iter().map(|a| text[a.index()].as_str()).collect();
         let (expr, inline) = expression(g, id, &args);
         if inline {
@@ -78,6 +108,8 @@ fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
         }
         // Only reachable if a lambda argument escaped substitution; zero keeps WGSL valid.
         Op::LambdaArg { .. } => (literal::value(&sdfc_ir::eval::zero_of(node.ty)), true),
+        // Calls are emitted by `emit`, once per group and argument.
+        Op::Call { .. } => ("0.0".into(), true),
         Op::Neg => (format!("-{}", operand(a[0])), false),
         Op::Add => (bin("+"), false),
         Op::Sub => (bin("-"), false),

@@ -4,19 +4,19 @@
 use crate::func::emit as emit_func;
 use crate::literal;
 use crate::{marcher, parts};
-use sdfc_ir::func::Func;
+use sdfc_ir::func::{Func, FuncKind};
 use sdfc_ir::ops::{Helper, Op};
 use sdfc_ir::Program;
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
-fn uses(f: &Func, pred: impl Fn(&Op) -> bool) -> bool {
+fn uses(f: &&Func, pred: impl Fn(&Op) -> bool) -> bool {
     f.graph.nodes().any(|(_, n)| pred(&n.op))
 }
 
 /// The whole module; `lib` leaves out the interface and marcher.
 pub fn emit(p: &Program, lib: bool) -> String {
-    let funcs = [&p.distance, &p.material];
+    let funcs: Vec<&Func> = [&p.distance, &p.material].into_iter().chain(&p.groups).collect();
     let uses_time = funcs.iter().any(|f| uses(f, |o| *o == Op::Time));
     let uses_params = funcs.iter().any(|f| uses(f, |o| matches!(o, Op::Param(_))));
     let n_params = p.scene.params.len();
@@ -71,8 +71,12 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     s += "\n// A surface's material: albedo = (rgb colour, reflectivity); phong = (ambient, diffuse, specular, shininess).\n";
     s += "struct SceneMaterial {\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
+    if p.groups.iter().any(|g| g.kind == FuncKind::MaterialGroup) {
+        s += "\n// The distance and material of a group of shapes.\n";
+        s += "struct SceneSample {\n    distance: f32,\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
+    }
     let mut helpers = BTreeSet::new();
-    for f in funcs {
+    for f in &funcs {
         for (_, n) in f.graph.nodes() {
             if let Op::Helper(h) = n.op {
                 helpers.insert(h);
@@ -83,15 +87,18 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += "\n";
         s += parts::helper(*h);
     }
+    for g in &p.groups {
+        s += "\n";
+        let doc = match g.kind {
+            FuncKind::MaterialGroup => "The distance and material of one group of a large union.",
+            _ => "The distance to one group of a large union.",
+        };
+        s += &emit_func(g, &p.groups, doc);
+    }
     s += "\n";
-    s += &emit_func(&p.distance, "f32", |r| r[0].clone(), "The signed distance from p to the scene (the march loop calls only this).");
+    s += &emit_func(&p.distance, &p.groups, "The signed distance from p to the scene (the march loop calls only this).");
     s += "\n";
-    s += &emit_func(
-        &p.material,
-        "SceneMaterial",
-        |r| format!("SceneMaterial({}, {})", r[0], r[1]),
-        "The material at a surface point p (called once per hit, never while marching).",
-    );
+    s += &emit_func(&p.material, &p.groups, "The material at a surface point p (called once per hit, never while marching).");
     if !lib {
         s += "\n";
         s += &marcher::emit(&p.scene);

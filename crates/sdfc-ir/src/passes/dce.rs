@@ -5,5 +5,5 @@ use crate::func::Func;
 
 pub fn run(f: &Func) -> Func {
     let (graph, results) = rebuild(&f.graph, &f.results, false, |out, id, node, args| copy(out, &f.graph, id, node, args));
-    Func { graph, results, ..f.clone() }
+    Func { name: f.name.clone(), kind: f.kind, graph, results }
 }

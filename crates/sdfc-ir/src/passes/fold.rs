@@ -12,6 +12,11 @@ use crate::ops::Op;
 use crate::value::Value;
 use sdfc_syntax::span::Span;
 
+/// The message for a constant that folds to infinity or NaN.
+pub const NON_FINITE: &str = "this constant expression is not finite (infinity or NaN)";
+
+/// Folds every node whose arguments are constants, on its own (the pipeline runs folding and
+/// simplification in one walk: see [`super::optimise`]).
 pub fn run(f: &Func) -> (Func, Vec<(Span, String)>) {
     let mut errors = Vec::new();
     let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
@@ -19,16 +24,16 @@ pub fn run(f: &Func) -> (Func, Vec<(Span, String)>) {
             if v.all_finite() {
                 return out.konst(v);
             }
-            errors.push((f.graph.span(id), "this constant expression is not finite (infinity or NaN)".to_string()));
+            errors.push((f.graph.span(id), NON_FINITE.to_string()));
         }
         copy(out, &f.graph, id, node, args)
     });
-    (Func { graph, results, ..f.clone() }, errors)
+    (Func { name: f.name.clone(), kind: f.kind, graph, results }, errors)
 }
 
 /// The folded value of `op` on `args` if every argument is a constant and `op` is pure.
 pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Option<Value<f32>> {
-    if matches!(op, Op::Const(_) | Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. }) {
+    if matches!(op, Op::Const(_) | Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. }) {
         return None;
     }
     let vals: Option<Vec<Value<f32>>> = args.iter().map(|a| g.as_const(*a)).collect();
@@ -54,7 +59,7 @@ pub fn const_value(g: &Graph, id: NodeId, memo: &mut FxHashMap<NodeId, Option<Va
     let node = *g.node(id);
     let out = match node.op {
         Op::Const(c) => Some(c.to_value()),
-        Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } => None,
+        Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => None,
         op => {
             let mut args = Vec::new();
             let mut all = true;

@@ -23,7 +23,11 @@ pub fn run(scene: &Scene) -> Scene {
         values: m.g,
         shapes: m.shapes,
         root,
-        ..scene.clone()
+        materials: scene.materials.clone(),
+        params: scene.params.clone(),
+        lights: scene.lights.clone(),
+        camera: scene.camera.clone(),
+        render: scene.render.clone(),
     }
 }
 

@@ -37,7 +37,7 @@ pub fn rebuild(
         }
         live
     };
-    let mut out = Graph::new();
+    let mut out = Graph::with_capacity(g.len());
     let mut map = vec![NodeId(0); g.len()];
     let mut args = Vec::with_capacity(4);
     for (id, node) in g.nodes() {
@@ -61,19 +61,36 @@ pub fn rebuild(
 /// Re-adds a node unchanged (inputs keep their declared type).
 pub fn copy(out: &mut Graph, old: &Graph, id: NodeId, node: &Node, args: &[NodeId]) -> NodeId {
     match node.op {
-        Op::Param(_) | Op::LambdaArg { .. } => out.input(node.op, node.ty, old.span(id)),
+        Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => out.add_typed(node.op, args, node.ty, old.span(id)),
         op => out.add(op, args, old.span(id)),
     }
 }
 
-/// The scalar pipeline: fold, simplify, fold again what simplifying exposed, CSE, DCE.
+/// The scalar pipeline: one rewriting walk in which each node is folded (fold.rs) or else
+/// simplified (simplify.rs) as it is re-added to a hash-consed graph, which merges equal
+/// nodes (cse.rs); then dead code elimination (dce.rs). Simplification only builds nodes from
+/// already-rewritten arguments, so one walk reaches the fixed point of both rule sets for
+/// everything but rules that enable each other through several nodes, which none do.
 /// Returns the optimised function and the spans of constants that folded to a non-finite value.
 pub fn optimise(f: &Func) -> (Func, Vec<(sdfc_syntax::span::Span, String)>) {
-    let (f, mut errors) = fold::run(f);
-    let f = simplify::run(&f);
-    let (f, e2) = fold::run(&f);
-    errors.extend(e2);
-    let f = cse::run(&f);
-    let f = dce::run(&f);
-    (f, errors)
+    let mut errors: Vec<(sdfc_syntax::span::Span, String)> = Vec::new();
+    let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
+        match fold::fold_one(out, node.op, node.ty, args) {
+            Some(v) if v.all_finite() => return out.konst(v),
+            Some(_) => {
+                let span = f.graph.span(id);
+                if !errors.iter().any(|(s, _)| *s == span) {
+                    errors.push((span, fold::NON_FINITE.to_string()));
+                }
+            }
+            None => {}
+        }
+        if let Some(n) = simplify::simplify(out, node.op, args) {
+            // A rule may expose a constant (e.g. a select on a now-constant condition).
+            return n;
+        }
+        copy(out, &f.graph, id, node, args)
+    });
+    let folded = Func { name: f.name.clone(), kind: f.kind, graph, results };
+    (dce::run(&folded), errors)
 }

@@ -14,7 +14,7 @@ pub fn run(f: &Func) -> Func {
     let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
         simplify(out, node.op, args).unwrap_or_else(|| copy(out, &f.graph, id, node, args))
     });
-    Func { graph, results, ..f.clone() }
+    Func { name: f.name.clone(), kind: f.kind, graph, results }
 }
 
 /// Whether every component of constant `n` equals `x`.

@@ -1,0 +1,631 @@
+//! End-to-end tests of the `sdfc` binary against the CLI contract (`shared/spec/cli.md`):
+//! outputs, files written, exit statuses (0 ok, 1 a problem in the input, 2 usage or
+//! environment), and never a panic or a backtrace. `render` and `bench` are not built yet.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+const SPEC_SECTION10: &str = "\
+// The tutorials' sphere-and-box studies, with light, shadow and a floor.
+material red   { color: [0.9, 0.2, 0.15], specular: 0.6, shininess: 48 }
+material floor { color: [0.7, 0.7, 0.7], reflectivity: 0.2 }
+
+camera { position: [0, 1.5, 5], target: [0, 0.5, 0], fov: 50deg }
+light point { position: [4, 6, -3], color: [1, 0.95, 0.9], intensity: 1.2 }
+render { shadows: soft(16), ao: ao(samples: 5), reflections: 1, background: [0.55, 0.7, 0.9] }
+
+fn ribbed(r) = sphere(r).displace(|p| sin(30 * p.y) / 16, lipschitz: 2.875);
+
+let blob = union(ribbed(1), box([1.4, 1.4, 1.4]).rotate_y(30deg), smooth: 0.3);
+
+scene = blob.material(red).translate([0, 1, 0])
+      | plane([0, 1, 0], 0).material(floor)
+      | sphere(0.3).repeat([3, 0, 3]).translate([0, 0.3, -6]);
+";
+
+const SPHERE: &str = "scene = sphere(1);\n";
+const PARAM_SPHERE: &str = "param r = 1;\nparam c = [0, 0, 0];\nscene = sphere(r).translate(c);\n";
+const BROKEN: &str = "let r = 1;\nscene = spher(r);\n";
+
+/// A fresh, empty directory under the system temp dir, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("sdfc-cli-test-{}-{n}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, contents).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        path
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+impl Run {
+    fn describe(&self) -> String {
+        format!(
+            "exit {}\n--- stdout ---\n{}\n--- stderr ---\n{}",
+            self.code, self.stdout, self.stderr
+        )
+    }
+
+    fn expect_code(self, code: i32) -> Run {
+        assert_eq!(
+            self.code,
+            code,
+            "unexpected exit status:\n{}",
+            self.describe()
+        );
+        self
+    }
+}
+
+/// Runs `sdfc` in `dir` with `args`; checks that nothing looks like a panic or a backtrace.
+fn sdfc_in(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_sdfc"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run sdfc: {e}"));
+    let run = Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    };
+    for bad in [
+        "panicked",
+        "RUST_BACKTRACE",
+        "stack backtrace",
+        "internal error",
+    ] {
+        assert!(
+            !run.stdout.contains(bad) && !run.stderr.contains(bad),
+            "`sdfc {}` printed `{bad}`:\n{}",
+            args.join(" "),
+            run.describe()
+        );
+    }
+    assert!(
+        matches!(run.code, 0..=2),
+        "`sdfc {}` exited with {} (killed by a signal?):\n{}",
+        args.join(" "),
+        run.code,
+        run.describe()
+    );
+    run
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("temp paths are UTF-8")
+}
+
+fn validate(wgsl: &str) {
+    if let Err(report) = sdfc_wgsl::validate::validate("out.wgsl", wgsl) {
+        panic!("the WGSL does not validate:\n{report}\n--- WGSL ---\n{wgsl}");
+    }
+}
+
+// ---- compile ----
+
+#[test]
+fn compile_to_stdout_is_valid_wgsl() {
+    let t = TempDir::new("compile-stdout");
+    let scene = t.write("scene.sdf", SPEC_SECTION10);
+    let run = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(0);
+    validate(&run.stdout);
+    assert!(run.stdout.contains("@compute"));
+    assert!(run
+        .stdout
+        .contains("fn scene_distance(p: vec3<f32>) -> f32"));
+    // The scene asks for shadows, ao and reflections: warnings, not errors.
+    assert!(run.stderr.contains("warning"), "{}", run.describe());
+    assert!(!run.stderr.contains("error"), "{}", run.describe());
+}
+
+#[test]
+fn compile_with_output_file_writes_it() {
+    let t = TempDir::new("compile-o");
+    let scene = t.write("scene.sdf", SPHERE);
+    let out = t.path("out.wgsl");
+    let run = sdfc_in(&t.0, &["compile", s(&scene), "-o", s(&out)]).expect_code(0);
+    assert!(run.stdout.is_empty(), "{}", run.describe());
+    let written = std::fs::read_to_string(&out).expect("the output file is written");
+    validate(&written);
+    // The same text as on stdout.
+    let to_stdout = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(0);
+    assert_eq!(written, to_stdout.stdout);
+    // The long form of the option too.
+    let out2 = t.path("out2.wgsl");
+    sdfc_in(&t.0, &["compile", s(&scene), "--output", s(&out2)]).expect_code(0);
+    assert_eq!(std::fs::read_to_string(&out2).expect("written"), written);
+}
+
+#[test]
+fn compile_lib_has_functions_and_no_entry_point() {
+    let t = TempDir::new("compile-lib");
+    let scene = t.write("scene.sdf", SPEC_SECTION10);
+    let run = sdfc_in(&t.0, &["compile", s(&scene), "--lib"]).expect_code(0);
+    validate(&run.stdout);
+    assert!(!run.stdout.contains("@compute"), "{}", run.stdout);
+    assert!(!run.stdout.contains("@group"), "{}", run.stdout);
+    assert!(run
+        .stdout
+        .contains("fn scene_distance(p: vec3<f32>) -> f32"));
+    assert!(run
+        .stdout
+        .contains("fn scene_material(p: vec3<f32>) -> SceneMaterial"));
+    assert!(!run.stdout.contains("#define_import_path"));
+}
+
+#[test]
+fn compile_lib_with_import_path() {
+    let t = TempDir::new("compile-import");
+    let scene = t.write("scene.sdf", PARAM_SPHERE);
+    let run = sdfc_in(
+        &t.0,
+        &["compile", s(&scene), "--lib", "--import-path", "my::scene"],
+    )
+    .expect_code(0);
+    assert_eq!(
+        run.stdout.lines().next(),
+        Some("#define_import_path my::scene")
+    );
+    assert!(!run.stdout.contains("@compute"));
+    assert!(run
+        .stdout
+        .contains("fn scene_distance(p: vec3<f32>) -> f32"));
+    // Without the import line the rest is the plain library form.
+    let plain = sdfc_in(&t.0, &["compile", s(&scene), "--lib"]).expect_code(0);
+    let rest = run
+        .stdout
+        .strip_prefix("#define_import_path my::scene\n")
+        .unwrap_or_default();
+    assert_eq!(rest.trim_start(), plain.stdout.trim_start());
+    // `check` accepts the library file, import line and all.
+    let lib_file = t.write("lib.wgsl", &run.stdout);
+    let check = sdfc_in(&t.0, &["check", s(&lib_file)]).expect_code(0);
+    assert!(check.stdout.starts_with("ok"), "{}", check.describe());
+}
+
+#[test]
+fn import_path_without_lib_is_a_usage_error() {
+    let t = TempDir::new("import-no-lib");
+    let scene = t.write("scene.sdf", SPHERE);
+    let run = sdfc_in(&t.0, &["compile", s(&scene), "--import-path", "my::scene"]).expect_code(2);
+    assert!(run.stdout.is_empty(), "{}", run.describe());
+    assert!(run.stderr.contains("--lib"), "{}", run.describe());
+}
+
+#[test]
+fn compile_emit_stages() {
+    let t = TempDir::new("emit");
+    let scene = t.write("scene.sdf", SPEC_SECTION10);
+    let ast = sdfc_in(&t.0, &["compile", s(&scene), "--emit", "ast"]).expect_code(0);
+    assert!(ast.stdout.starts_with("(file"), "{}", ast.describe());
+    assert!(ast.stdout.contains("ribbed"));
+    let ir = sdfc_in(&t.0, &["compile", s(&scene), "--emit", "ir"]).expect_code(0);
+    assert!(ir.stdout.contains("shapes\n"), "{}", ir.describe());
+    assert!(ir.stdout.contains("displace"), "{}", ir.describe());
+    assert!(ir.stdout.contains("material 1 (red)"), "{}", ir.describe());
+    let opt = sdfc_in(&t.0, &["compile", s(&scene), "--emit", "opt-ir"]).expect_code(0);
+    assert!(
+        opt.stdout.contains("fn scene_distance ("),
+        "{}",
+        opt.describe()
+    );
+    assert!(
+        opt.stdout.contains("fn scene_material ("),
+        "{}",
+        opt.describe()
+    );
+    let wgsl = sdfc_in(&t.0, &["compile", s(&scene), "--emit", "wgsl"]).expect_code(0);
+    validate(&wgsl.stdout);
+    // `--emit` with `-o` writes the stage to the file.
+    let out = t.path("scene.ir");
+    sdfc_in(&t.0, &["compile", s(&scene), "--emit", "ir", "-o", s(&out)]).expect_code(0);
+    assert_eq!(std::fs::read_to_string(&out).expect("written"), ir.stdout);
+    // An unknown stage is a usage error.
+    sdfc_in(&t.0, &["compile", s(&scene), "--emit", "llvm"]).expect_code(2);
+}
+
+#[test]
+fn emit_ast_of_a_syntax_error_is_an_input_error() {
+    let t = TempDir::new("emit-ast-err");
+    let scene = t.write("bad.sdf", "let r = 1\nscene = sphere(r);\n");
+    let run = sdfc_in(&t.0, &["compile", s(&scene), "--emit", "ast"]).expect_code(1);
+    assert!(run.stdout.is_empty(), "{}", run.describe());
+    assert!(run.stderr.contains("error"), "{}", run.describe());
+}
+
+#[test]
+fn compile_broken_scene_reports_a_located_diagnostic() {
+    let t = TempDir::new("compile-broken");
+    t.write("broken.sdf", BROKEN);
+    let run = sdfc_in(&t.0, &["compile", "broken.sdf"]).expect_code(1);
+    assert!(run.stdout.is_empty(), "{}", run.describe());
+    insta::assert_snapshot!("compile_broken_stderr", run.stderr);
+}
+
+#[test]
+fn compile_output_to_unwritable_place_is_an_environment_error() {
+    let t = TempDir::new("compile-unwritable");
+    let scene = t.write("scene.sdf", SPHERE);
+    let out = t.path("no/such/dir/out.wgsl");
+    let run = sdfc_in(&t.0, &["compile", s(&scene), "-o", s(&out)]).expect_code(2);
+    assert!(run.stderr.contains("cannot write"), "{}", run.describe());
+}
+
+#[test]
+fn unreadable_files_are_environment_errors() {
+    let t = TempDir::new("unreadable");
+    let missing = t.path("missing.sdf");
+    let run = sdfc_in(&t.0, &["compile", s(&missing)]).expect_code(2);
+    assert!(run.stderr.contains("missing.sdf"), "{}", run.describe());
+    sdfc_in(&t.0, &["check", s(&missing)]).expect_code(2);
+    let pts = t.write("pts.csv", "0,0,0\n");
+    sdfc_in(&t.0, &["eval", s(&missing), "--points", s(&pts)]).expect_code(2);
+    // A directory is not a readable scene either.
+    sdfc_in(&t.0, &["compile", s(&t.0)]).expect_code(2);
+}
+
+#[test]
+fn invalid_utf8_is_an_input_error() {
+    let t = TempDir::new("utf8");
+    let scene = t.write("latin1.sdf", b"// caf\xe9\nscene = sphere(1);\n");
+    let run = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(1);
+    assert!(run.stderr.contains("UTF-8"), "{}", run.describe());
+    assert!(run.stderr.contains(":1:"), "{}", run.describe());
+}
+
+// ---- check ----
+
+#[test]
+fn check_accepts_the_spec_scene_and_valid_wgsl() {
+    let t = TempDir::new("check-ok");
+    let scene = t.write("spec.sdf", SPEC_SECTION10);
+    let compiled = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(0);
+    let wgsl = t.write("spec.wgsl", &compiled.stdout);
+    let run = sdfc_in(&t.0, &["check", s(&scene), s(&wgsl)]).expect_code(0);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{}", run.describe());
+    assert!(
+        lines[0].starts_with("ok") && lines[0].ends_with("spec.sdf"),
+        "{}",
+        run.describe()
+    );
+    assert!(
+        lines[1].starts_with("ok") && lines[1].ends_with("spec.wgsl"),
+        "{}",
+        run.describe()
+    );
+}
+
+#[test]
+fn check_rejects_broken_wgsl() {
+    let t = TempDir::new("check-bad-wgsl");
+    let wgsl = t.write("bad.wgsl", "fn f() -> f32 { return 1u; }\n");
+    let run = sdfc_in(&t.0, &["check", s(&wgsl)]).expect_code(1);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 1, "{}", run.describe());
+    assert!(
+        lines[0].starts_with("error") && lines[0].contains("bad.wgsl"),
+        "{}",
+        run.describe()
+    );
+    assert!(
+        !run.stderr.is_empty(),
+        "naga's report goes to stderr:\n{}",
+        run.describe()
+    );
+    // A syntax error, too.
+    let syntax = t.write("syntax.wgsl", "fn f( {\n");
+    sdfc_in(&t.0, &["check", s(&syntax)]).expect_code(1);
+}
+
+#[test]
+fn check_rejects_a_broken_scene_with_one_line_per_file() {
+    let t = TempDir::new("check-bad-sdf");
+    t.write("good.sdf", SPHERE);
+    t.write("broken.sdf", BROKEN);
+    t.write("also_good.sdf", PARAM_SPHERE);
+    let run = sdfc_in(&t.0, &["check", "good.sdf", "broken.sdf", "also_good.sdf"]).expect_code(1);
+    // stdout: exactly one line per file, in order; diagnostics go to stderr.
+    insta::assert_snapshot!("check_mixed_stdout", run.stdout);
+    assert!(run.stderr.contains("broken.sdf:2:9"), "{}", run.describe());
+    assert!(
+        run.stderr.contains("did you mean `sphere`?"),
+        "{}",
+        run.describe()
+    );
+}
+
+#[test]
+fn check_reports_every_kind_of_failure_with_the_worst_status() {
+    let t = TempDir::new("check-worst");
+    let good = t.write("good.sdf", SPHERE);
+    let broken = t.write("broken.sdf", BROKEN);
+    let missing = t.path("missing.sdf");
+    // An unreadable file outranks an input error: exit 2, still one line per file.
+    let run = sdfc_in(&t.0, &["check", s(&good), s(&broken), s(&missing)]).expect_code(2);
+    assert_eq!(run.stdout.lines().count(), 3, "{}", run.describe());
+}
+
+#[test]
+fn check_without_files_is_a_usage_error() {
+    let t = TempDir::new("check-none");
+    sdfc_in(&t.0, &["check"]).expect_code(2);
+}
+
+// ---- eval ----
+
+fn eval_lines(run: &Run) -> Vec<f64> {
+    run.stdout
+        .lines()
+        .map(|l| {
+            l.parse::<f64>()
+                .unwrap_or_else(|e| panic!("`{l}` is not a number ({e}):\n{}", run.describe()))
+        })
+        .collect()
+}
+
+#[test]
+fn eval_prints_exact_distances() {
+    let t = TempDir::new("eval");
+    let scene = t.write("sphere.sdf", SPHERE);
+    let pts = t.write(
+        "pts.csv",
+        "3,0,0\n0,0,0\n# a comment line\n\n0, 2 ,0\n1e0,0,0\n0,0,-0.25\n-4,3,0\n",
+    );
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(0);
+    assert_eq!(
+        eval_lines(&run),
+        vec![2.0, -1.0, 1.0, 0.0, -0.75, 4.0],
+        "{}",
+        run.describe()
+    );
+    // Full precision: a value that is not short in decimal keeps all its digits.
+    let pts2 = t.write("pts2.csv", "1,1,1\n");
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts2)]).expect_code(0);
+    assert_eq!(
+        eval_lines(&run),
+        vec![3f64.sqrt() - 1.0],
+        "{}",
+        run.describe()
+    );
+}
+
+#[test]
+fn eval_with_param_overrides() {
+    let t = TempDir::new("eval-param");
+    let scene = t.write("sphere.sdf", PARAM_SPHERE);
+    let pts = t.write("pts.csv", "3,0,0\n0,0,0\n");
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(0);
+    assert_eq!(eval_lines(&run), vec![2.0, -1.0]);
+    let run = sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&pts), "--param", "r=2"],
+    )
+    .expect_code(0);
+    assert_eq!(eval_lines(&run), vec![1.0, -2.0], "{}", run.describe());
+    let run = sdfc_in(
+        &t.0,
+        &[
+            "eval",
+            s(&scene),
+            "--points",
+            s(&pts),
+            "--param",
+            "r=2",
+            "--param",
+            "c=3,0,0",
+        ],
+    )
+    .expect_code(0);
+    assert_eq!(eval_lines(&run), vec![-2.0, 1.0], "{}", run.describe());
+    // Mistakes in the overrides.
+    let run = sdfc_in(
+        &t.0,
+        &[
+            "eval",
+            s(&scene),
+            "--points",
+            s(&pts),
+            "--param",
+            "radius=2",
+        ],
+    )
+    .expect_code(1);
+    assert!(run.stderr.contains("radius"), "{}", run.describe());
+    sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&pts), "--param", "c=1,2"],
+    )
+    .expect_code(1);
+    sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&pts), "--param", "r=big"],
+    )
+    .expect_code(1);
+}
+
+#[test]
+fn eval_with_time() {
+    let t = TempDir::new("eval-time");
+    let scene = t.write("moving.sdf", "scene = sphere(1).translate([time, 0, 0]);\n");
+    let pts = t.write("pts.csv", "3,0,0\n");
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(0);
+    assert_eq!(eval_lines(&run), vec![2.0]);
+    let run = sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&pts), "--time", "2"],
+    )
+    .expect_code(0);
+    assert_eq!(eval_lines(&run), vec![0.0], "{}", run.describe());
+}
+
+#[test]
+fn eval_bad_csv_line_is_an_input_error() {
+    let t = TempDir::new("eval-bad-csv");
+    let scene = t.write("sphere.sdf", SPHERE);
+    for (i, bad) in ["3,0,0\n1,2\n", "3,0,0\nx,y,z\n", "3,0,0\n1,2,3,4\n"]
+        .iter()
+        .enumerate()
+    {
+        let pts = t.write(&format!("bad{i}.csv"), bad);
+        let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(1);
+        assert!(
+            run.stderr.contains(&format!("bad{i}.csv:2:")),
+            "{}",
+            run.describe()
+        );
+    }
+}
+
+#[test]
+fn eval_of_a_broken_scene_is_an_input_error() {
+    let t = TempDir::new("eval-broken");
+    let scene = t.write("broken.sdf", BROKEN);
+    let pts = t.write("pts.csv", "0,0,0\n");
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(1);
+    assert!(run.stdout.is_empty(), "{}", run.describe());
+    assert!(
+        run.stderr.contains("unknown function `spher`"),
+        "{}",
+        run.describe()
+    );
+}
+
+#[test]
+fn eval_missing_points_file_is_an_environment_error() {
+    let t = TempDir::new("eval-no-points");
+    let scene = t.write("sphere.sdf", SPHERE);
+    sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&t.path("none.csv"))],
+    )
+    .expect_code(2);
+    // `--points` is required.
+    sdfc_in(&t.0, &["eval", s(&scene)]).expect_code(2);
+}
+
+// ---- general ----
+
+#[test]
+fn usage_errors_exit_2_and_help_exits_0() {
+    let t = TempDir::new("usage");
+    sdfc_in(&t.0, &[]).expect_code(2);
+    sdfc_in(&t.0, &["frobnicate"]).expect_code(2);
+    sdfc_in(&t.0, &["compile"]).expect_code(2);
+    sdfc_in(&t.0, &["compile", "a.sdf", "--no-such-flag"]).expect_code(2);
+    let help = sdfc_in(&t.0, &["--help"]).expect_code(0);
+    assert!(help.stdout.contains("compile"), "{}", help.describe());
+    let version = sdfc_in(&t.0, &["--version"]).expect_code(0);
+    assert!(
+        version.stdout.starts_with("sdfc "),
+        "{}",
+        version.describe()
+    );
+}
+
+#[test]
+fn compile_every_scene_of_the_corpus() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/scenes");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&scenes).expect("tests/scenes") {
+        let path = entry.expect("dir entry").path();
+        if path.extension().is_none_or(|e| e != "sdf") {
+            continue;
+        }
+        n += 1;
+        let run = sdfc_in(&scenes, &["compile", s(&path)]).expect_code(0);
+        validate(&run.stdout);
+        let lib = sdfc_in(&scenes, &["compile", s(&path), "--lib"]).expect_code(0);
+        validate(&lib.stdout);
+    }
+    assert!(n >= 12, "found only {n} scenes in {}", scenes.display());
+}
+
+#[test]
+fn every_broken_scene_fails_cleanly() {
+    let errors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/errors");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&errors).expect("tests/errors") {
+        let path = entry.expect("dir entry").path();
+        if path.extension().is_none_or(|e| e != "sdf") {
+            continue;
+        }
+        n += 1;
+        let run = sdfc_in(&errors, &["compile", s(&path)]).expect_code(1);
+        assert!(
+            run.stdout.is_empty(),
+            "{}: {}",
+            path.display(),
+            run.describe()
+        );
+        assert!(
+            run.stderr.contains("error"),
+            "{}: {}",
+            path.display(),
+            run.describe()
+        );
+        let check = sdfc_in(&errors, &["check", s(&path)]).expect_code(1);
+        assert_eq!(
+            check.stdout.lines().count(),
+            1,
+            "{}: {}",
+            path.display(),
+            check.describe()
+        );
+    }
+    assert!(
+        n >= 25,
+        "found only {n} broken scenes in {}",
+        errors.display()
+    );
+}
+
+/// Known compiler bug: a non-finite constant in a translate offset or rotation angle is not
+/// diagnosed; the emitter panics and `sdfc` prints "internal error: panicked at
+/// crates/sdfc-wgsl/src/literal.rs" and exits 2 instead of a diagnostic and exit 1.
+#[test]
+#[ignore = "compiler bug: non-finite constants in translate/rotate panic in the emitter"]
+fn non_finite_transform_constant_is_an_input_error() {
+    let t = TempDir::new("non-finite");
+    for (i, src) in [
+        "scene = sphere(1).translate([1e30 * 1e30, 0, 0]);\n",
+        "scene = sphere(1).translate([1 / 0, 0, 0]);\n",
+        "scene = sphere(1).rotate_y(1 / 0);\n",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let scene = t.write(&format!("inf{i}.sdf"), src);
+        let run = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(1);
+        assert!(run.stderr.contains("not finite"), "{}", run.describe());
+    }
+}

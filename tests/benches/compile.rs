@@ -1,0 +1,44 @@
+//! Compile time from scene text to validated WGSL for scenes of 10, 1 000 and 5 000 shapes,
+//! and the share of each stage at 5 000. Run: `cargo bench -p sdfc-tests --bench compile`.
+
+use sdfc_tests::grid_scene;
+use sdfc_wgsl::Options;
+
+fn main() {
+    divan::main();
+}
+
+/// The whole pipeline, as `sdfc compile` runs it: parse, lower, optimise, emit, validate.
+#[divan::bench(args = [10, 1000, 5000], sample_count = 20)]
+fn scene_to_validated_wgsl(bencher: divan::Bencher, n: usize) {
+    let src = grid_scene(n);
+    bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &Options::default()).is_ok());
+}
+
+#[divan::bench(sample_count = 20)]
+fn stage_parse_5000(bencher: divan::Bencher) {
+    let src = grid_scene(5000);
+    bencher.bench(|| sdfc_syntax::parse(divan::black_box(&src)).is_ok());
+}
+
+#[divan::bench(sample_count = 20)]
+fn stage_lower_and_optimise_5000(bencher: divan::Bencher) {
+    let src = grid_scene(5000);
+    let file = sdfc_syntax::parse(&src).unwrap();
+    bencher.bench(|| sdfc_ir::compile(divan::black_box(&file), src.len()).0.is_some());
+}
+
+#[divan::bench(sample_count = 20)]
+fn stage_emit_5000(bencher: divan::Bencher) {
+    let src = grid_scene(5000);
+    let file = sdfc_syntax::parse(&src).unwrap();
+    let program = sdfc_ir::compile(&file, src.len()).0.unwrap().program;
+    bencher.bench(|| sdfc_wgsl::module::emit(divan::black_box(&program), false).len());
+}
+
+#[divan::bench(sample_count = 20)]
+fn stage_validate_5000(bencher: divan::Bencher) {
+    let src = grid_scene(5000);
+    let wgsl = sdfc_wgsl::compile(&src, &Options::default()).unwrap().wgsl;
+    bencher.bench(|| sdfc_wgsl::validate::validate("bench.wgsl", divan::black_box(&wgsl)).is_ok());
+}

@@ -1,0 +1,49 @@
+//! Shared helpers for the golden and end-to-end tests: where the corpus lives.
+
+use std::path::PathBuf;
+
+/// The `tests/` folder of the repository.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The `.sdf` files of a corpus folder under `tests/`, sorted by name.
+pub fn corpus(folder: &str) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join(folder))
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "sdf"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// A generated scene of `n` shapes (spheres, boxes and tori on a grid, rotated, in three
+/// materials) in one flat `union`: the compile-time benchmark's input and the large-scene
+/// tests' too.
+pub fn grid_scene(n: usize) -> String {
+    let mut s = String::from(
+        "// Generated grid scene.\n\
+         material red { color: [0.9, 0.2, 0.15] }\n\
+         material green { color: [0.2, 0.8, 0.3], specular: 0.2 }\n\
+         material blue { color: [0.2, 0.3, 0.9], reflectivity: 0.3 }\n\
+         camera { position: [0, 20, 60], target: [0, 0, 0], fov: 50deg }\n\
+         scene = union(\n",
+    );
+    let side = (n as f64).cbrt().ceil() as usize;
+    for i in 0..n {
+        let (x, y, z) = (i % side, (i / side) % side, i / (side * side));
+        let pos = format!("[{}, {}, {}]", x as f64 * 1.5 - side as f64, y as f64 * 1.5, z as f64 * -1.5);
+        let shape = match i % 3 {
+            0 => format!("sphere({})", 0.3 + (i % 7) as f64 * 0.05),
+            1 => format!("box([0.5, {}, 0.5]).rotate_y({}deg).material(green)", 0.4 + (i % 5) as f64 * 0.1, i % 90),
+            _ => format!("torus(0.4, 0.1).rotate_x({}deg).material(blue)", i % 180),
+        };
+        let material = if i % 3 == 0 { ".material(red)" } else { "" };
+        s += &format!("    {shape}{material}.translate({pos}),\n");
+    }
+    s += ");\n";
+    s
+}

@@ -1,0 +1,352 @@
+//! Golden tests over the scene corpus in `tests/scenes/`: for every scene, snapshots of the
+//! lowered IR, the optimised IR and the emitted WGSL, plus checks that hold for every scene
+//! (the WGSL validates, in full and library form; compiling is deterministic; warnings only
+//! where expected).
+//!
+//! Snapshots live in `tests/tests/snapshots/golden__<scene>.<stage>.snap`. After an intended
+//! change, read the diffs, then accept them with `INSTA_UPDATE=always cargo test -p sdfc-tests`.
+
+use sdfc_syntax::diag::{self, Diagnostic};
+use sdfc_wgsl::{Compiled, Failure, Options};
+use std::path::{Path, PathBuf};
+
+/// Scenes that use settings this version accepts with a "not rendered yet" warning
+/// (shadows, ao, reflections). Every other scene must compile without any diagnostic.
+const SCENES_WITH_WARNINGS: &[&str] = &["lights_camera_fov", "render_shading", "spec_section10"];
+
+struct Scene {
+    stem: String,
+    path: PathBuf,
+    source: String,
+}
+
+fn scenes() -> Vec<Scene> {
+    let paths = sdfc_tests::corpus("scenes");
+    assert!(
+        paths.len() >= 12,
+        "expected the scene corpus in tests/scenes, found {} files",
+        paths.len()
+    );
+    paths
+        .into_iter()
+        .map(|path| {
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or_else(|| panic!("{}: file name is not UTF-8", path.display()))
+                .to_string();
+            let source = std::fs::read_to_string(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            Scene { stem, path, source }
+        })
+        .collect()
+}
+
+fn compile(name: &str, source: &str, opts: &Options) -> Compiled {
+    match sdfc_wgsl::compile(source, opts) {
+        Ok(c) => c,
+        Err(Failure::Diagnostics(d)) => {
+            panic!(
+                "{name} does not compile:\n{}",
+                diag::render(name, source, &d)
+            )
+        }
+        Err(Failure::Internal { report, wgsl }) => {
+            panic!("{name}: internal compiler error:\n{report}\n--- WGSL ---\n{wgsl}")
+        }
+    }
+}
+
+/// The optimised IR as `sdfc compile --emit opt-ir` prints it.
+fn opt_ir(c: &Compiled) -> String {
+    let p = c.program();
+    format!(
+        "{}\n{}\n{}",
+        sdfc_ir::dump::scene_text(&p.scene),
+        sdfc_ir::dump::func_text(&p.distance),
+        sdfc_ir::dump::func_text(&p.material)
+    )
+}
+
+/// The text of `fn NAME(...` up to its closing brace at the start of a line.
+fn function_text<'a>(wgsl: &'a str, signature_start: &str) -> &'a str {
+    let start = wgsl
+        .find(signature_start)
+        .unwrap_or_else(|| panic!("no `{signature_start}` in:\n{wgsl}"));
+    let len = wgsl[start..]
+        .find("\n}\n")
+        .unwrap_or_else(|| panic!("`{signature_start}` is not closed"));
+    &wgsl[start..start + len + 3]
+}
+
+fn settings_for(scene: &Scene) -> insta::Settings {
+    let mut s = insta::Settings::clone_current();
+    s.set_input_file(&scene.path);
+    s.set_omit_expression(true);
+    if let Some(first) = scene.source.lines().next() {
+        s.set_description(first.trim_start_matches("//").trim());
+    }
+    s
+}
+
+#[test]
+fn every_scene_documents_what_it_covers() {
+    for scene in scenes() {
+        assert!(
+            scene.source.starts_with("// "),
+            "{}: the first line should be a `//` comment saying what the scene covers",
+            scene.path.display()
+        );
+    }
+}
+
+#[test]
+fn lowered_ir_snapshots() {
+    for scene in scenes() {
+        let c = compile(&scene.stem, &scene.source, &Options::default());
+        let text = sdfc_ir::dump::scene_text(&c.stages.lowered);
+        settings_for(&scene).bind(|| {
+            insta::assert_snapshot!(format!("{}.ir", scene.stem), text);
+        });
+    }
+}
+
+#[test]
+fn optimised_ir_snapshots() {
+    for scene in scenes() {
+        let c = compile(&scene.stem, &scene.source, &Options::default());
+        let text = opt_ir(&c);
+        settings_for(&scene).bind(|| {
+            insta::assert_snapshot!(format!("{}.opt-ir", scene.stem), text);
+        });
+    }
+}
+
+#[test]
+fn wgsl_snapshots_validate() {
+    for scene in scenes() {
+        let c = compile(&scene.stem, &scene.source, &Options::default());
+        if let Err(report) = sdfc_wgsl::validate::validate(&format!("{}.wgsl", scene.stem), &c.wgsl)
+        {
+            panic!("{}: emitted WGSL does not validate:\n{report}", scene.stem);
+        }
+        assert!(
+            c.wgsl.contains("@compute"),
+            "{}: no entry point",
+            scene.stem
+        );
+        assert!(
+            c.wgsl.contains("fn scene_distance(p: vec3<f32>) -> f32"),
+            "{}: no scene_distance",
+            scene.stem
+        );
+        settings_for(&scene).bind(|| {
+            insta::assert_snapshot!(format!("{}.wgsl", scene.stem), c.wgsl);
+        });
+    }
+}
+
+#[test]
+fn library_form_validates_and_matches_the_full_shader() {
+    for scene in scenes() {
+        let full = compile(&scene.stem, &scene.source, &Options::default());
+        let lib_opts = Options {
+            lib: true,
+            import_path: None,
+        };
+        let lib = compile(&scene.stem, &scene.source, &lib_opts);
+        if let Err(report) =
+            sdfc_wgsl::validate::validate(&format!("{}.lib.wgsl", scene.stem), &lib.wgsl)
+        {
+            panic!("{}: library WGSL does not validate:\n{report}", scene.stem);
+        }
+        for absent in ["@compute", "@group", "@binding", "fn main("] {
+            assert!(
+                !lib.wgsl.contains(absent),
+                "{}: the library form contains `{absent}`",
+                scene.stem
+            );
+        }
+        for sig in [
+            "fn scene_distance(p: vec3<f32>) -> f32",
+            "fn scene_material(p: vec3<f32>) -> SceneMaterial",
+        ] {
+            assert_eq!(
+                function_text(&lib.wgsl, sig),
+                function_text(&full.wgsl, sig),
+                "{}: `{sig}` differs between the library form and the full shader",
+                scene.stem
+            );
+        }
+        assert!(
+            !lib.wgsl.starts_with("#define_import_path"),
+            "{}: import path line without an import path",
+            scene.stem
+        );
+    }
+}
+
+#[test]
+fn library_form_with_import_path() {
+    for scene in scenes() {
+        let opts = Options {
+            lib: true,
+            import_path: Some("my::scene".into()),
+        };
+        let with_path = compile(&scene.stem, &scene.source, &opts);
+        let plain = compile(
+            &scene.stem,
+            &scene.source,
+            &Options {
+                lib: true,
+                import_path: None,
+            },
+        );
+        let first = with_path.wgsl.lines().next().unwrap_or_default();
+        assert_eq!(first, "#define_import_path my::scene", "{}", scene.stem);
+        // The import line is not WGSL; what follows it is the plain library form.
+        let rest = with_path
+            .wgsl
+            .strip_prefix("#define_import_path my::scene\n")
+            .unwrap_or_default();
+        assert_eq!(rest.trim_start(), plain.wgsl.trim_start(), "{}", scene.stem);
+    }
+}
+
+#[test]
+fn import_path_is_ignored_without_lib() {
+    let scene = &scenes()[0];
+    let opts = Options {
+        lib: false,
+        import_path: Some("my::scene".into()),
+    };
+    let c = compile(&scene.stem, &scene.source, &opts);
+    assert!(!c.wgsl.contains("#define_import_path"));
+    assert_eq!(
+        c.wgsl,
+        compile(&scene.stem, &scene.source, &Options::default()).wgsl
+    );
+}
+
+#[test]
+fn compiling_is_deterministic() {
+    for scene in scenes() {
+        let a = compile(&scene.stem, &scene.source, &Options::default());
+        // The second compilation runs on another thread, after other work, to shake out any
+        // dependence on hash seeds, addresses or thread-local state.
+        let src = scene.source.clone();
+        let b = std::thread::spawn(move || {
+            let _warm_up = sdfc_wgsl::compile("scene = box(2) | sphere(3);", &Options::default());
+            sdfc_wgsl::compile(&src, &Options::default())
+        })
+        .join()
+        .expect("compiler thread")
+        .unwrap_or_else(|_| panic!("{} failed to compile the second time", scene.stem));
+        assert!(
+            a.wgsl == b.wgsl,
+            "{}: WGSL differs between two compilations",
+            scene.stem
+        );
+        assert_eq!(
+            opt_ir(&a),
+            opt_ir(&b),
+            "{}: optimised IR differs",
+            scene.stem
+        );
+        assert_eq!(
+            sdfc_ir::dump::scene_text(&a.stages.lowered),
+            sdfc_ir::dump::scene_text(&b.stages.lowered),
+            "{}: lowered IR differs",
+            scene.stem
+        );
+        assert_eq!(a.warnings, b.warnings, "{}: warnings differ", scene.stem);
+    }
+}
+
+#[test]
+fn identity_transforms_emit_identical_wgsl() {
+    let read = |name: &str| {
+        let path = sdfc_tests::root().join("scenes").join(name);
+        std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    };
+    let (a_src, b_src) = (read("identity_a.sdf"), read("identity_b.sdf"));
+    let code = |s: &str| -> String { s.lines().filter(|l| !l.starts_with("//")).collect() };
+    assert_eq!(code(&a_src), "scene = sphere(1);");
+    assert_eq!(
+        code(&b_src),
+        "scene = sphere(1).translate([0,0,0]).rotate_y(0).scale(1);"
+    );
+    for opts in [
+        Options::default(),
+        Options {
+            lib: true,
+            import_path: None,
+        },
+    ] {
+        let a = compile("identity_a", &a_src, &opts);
+        let b = compile("identity_b", &b_src, &opts);
+        assert!(
+            a.wgsl == b.wgsl,
+            "identity transforms change the WGSL (lib: {}):\n--- a ---\n{}\n--- b ---\n{}",
+            opts.lib,
+            a.wgsl,
+            b.wgsl
+        );
+    }
+}
+
+fn rendered(scene: &Scene, diags: &[Diagnostic]) -> String {
+    diag::render(&format!("{}.sdf", scene.stem), &scene.source, diags)
+}
+
+#[test]
+fn warnings_only_where_expected() {
+    let stems: Vec<String> = scenes().into_iter().map(|s| s.stem).collect();
+    for expected in SCENES_WITH_WARNINGS {
+        assert!(
+            stems.iter().any(|s| s == expected),
+            "SCENES_WITH_WARNINGS names `{expected}`, which is not in tests/scenes"
+        );
+    }
+    for scene in scenes() {
+        let c = compile(&scene.stem, &scene.source, &Options::default());
+        assert!(
+            c.warnings.iter().all(|d| !d.is_error()),
+            "{}: an error among the warnings of a compiled scene",
+            scene.stem
+        );
+        if SCENES_WITH_WARNINGS.contains(&scene.stem.as_str()) {
+            assert!(
+                !c.warnings.is_empty(),
+                "{}: expected a \"not rendered yet\" warning",
+                scene.stem
+            );
+            for w in &c.warnings {
+                assert!(
+                    w.message.contains("not rendered by this version"),
+                    "{}: unexpected warning:\n{}",
+                    scene.stem,
+                    rendered(&scene, std::slice::from_ref(w))
+                );
+            }
+            let text = rendered(&scene, &c.warnings);
+            settings_for(&scene).bind(|| {
+                insta::assert_snapshot!(format!("{}.warnings", scene.stem), text);
+            });
+        } else {
+            assert!(
+                c.warnings.is_empty(),
+                "{}: unexpected diagnostics:\n{}",
+                scene.stem,
+                rendered(&scene, &c.warnings)
+            );
+        }
+    }
+}
+
+#[test]
+fn scene_files_are_found_relative_to_the_crate() {
+    let root = sdfc_tests::root();
+    assert!(Path::new(&root).join("scenes").is_dir());
+    assert!(Path::new(&root).join("errors").is_dir());
+}

@@ -25,7 +25,11 @@ fn stage_parse_5000(bencher: divan::Bencher) {
 fn stage_lower_and_optimise_5000(bencher: divan::Bencher) {
     let src = grid_scene(5000);
     let file = sdfc_syntax::parse(&src).unwrap();
-    bencher.bench(|| sdfc_ir::compile(divan::black_box(&file), src.len()).0.is_some());
+    bencher.bench(|| {
+        sdfc_ir::compile(divan::black_box(&file), src.len())
+            .0
+            .is_some()
+    });
 }
 
 #[divan::bench(sample_count = 20)]

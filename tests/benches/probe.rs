@@ -1,6 +1,9 @@
 //! Ad-hoc profiling entry (not a benchmark): times each compile stage once.
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(5000);
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(5000);
     let src = sdfc_tests::grid_scene(n);
     let t = std::time::Instant::now();
     let file = sdfc_syntax::parse(&src).unwrap();
@@ -12,5 +15,10 @@ fn main() {
     let t = std::time::Instant::now();
     let wgsl = sdfc_wgsl::module::emit(&program, false);
     let t_emit = t.elapsed();
-    println!("n={n} parse={t_parse:?} ir={t_ir:?} emit={t_emit:?} lines={} dist_nodes={} mat_nodes={}", wgsl.lines().count(), program.distance.graph.len(), program.material.graph.len());
+    println!(
+        "n={n} parse={t_parse:?} ir={t_ir:?} emit={t_emit:?} lines={} dist_nodes={} mat_nodes={}",
+        wgsl.lines().count(),
+        program.distance.graph.len(),
+        program.material.graph.len()
+    );
 }

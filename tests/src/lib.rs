@@ -35,10 +35,19 @@ pub fn grid_scene(n: usize) -> String {
     let side = (n as f64).cbrt().ceil() as usize;
     for i in 0..n {
         let (x, y, z) = (i % side, (i / side) % side, i / (side * side));
-        let pos = format!("[{}, {}, {}]", x as f64 * 1.5 - side as f64, y as f64 * 1.5, z as f64 * -1.5);
+        let pos = format!(
+            "[{}, {}, {}]",
+            x as f64 * 1.5 - side as f64,
+            y as f64 * 1.5,
+            z as f64 * -1.5
+        );
         let shape = match i % 3 {
             0 => format!("sphere({})", 0.3 + (i % 7) as f64 * 0.05),
-            1 => format!("box([0.5, {}, 0.5]).rotate_y({}deg).material(green)", 0.4 + (i % 5) as f64 * 0.1, i % 90),
+            1 => format!(
+                "box([0.5, {}, 0.5]).rotate_y({}deg).material(green)",
+                0.4 + (i % 5) as f64 * 0.1,
+                i % 90
+            ),
             _ => format!("torus(0.4, 0.1).rotate_x({}deg).material(blue)", i % 180),
         };
         let material = if i % 3 == 0 { ".material(red)" } else { "" };

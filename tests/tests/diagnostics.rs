@@ -159,13 +159,9 @@ fn diagnostics_are_deterministic() {
     }
 }
 
-/// Known compiler bug, kept out of the `tests/errors/` corpus: a non-finite constant that
-/// reaches a shape transform (an offset or an angle) is not reported; the WGSL emitter then
-/// panics ("non-finite constants are rejected before emission", crates/sdfc-wgsl/src/literal.rs)
-/// and the caller gets `Failure::Internal` ("the compiler panicked") instead of a diagnostic.
-/// The same constants as a radius (`sphere(1 / 0)`) are reported correctly.
+/// A non-finite constant that reaches a shape transform (an offset or an angle) is reported
+/// where it is written (this once panicked in the emitter).
 #[test]
-#[ignore = "compiler bug: non-finite constants in translate/rotate panic in the emitter"]
 fn non_finite_transform_constants_are_diagnosed() {
     for source in [
         "scene = sphere(1).translate([1e30 * 1e30, 0, 0]);\n",
@@ -179,11 +175,9 @@ fn non_finite_transform_constants_are_diagnosed() {
     }
 }
 
-/// Known poor diagnostic, kept out of the corpus: two scales that are each fine but whose
-/// product overflows f32 once the merge pass folds them are reported at line 1, column 1 (an
-/// empty span at offset 0), not at the `.scale(...)` calls.
+/// Two scales that are each fine but whose product overflows f32 once the merge pass folds
+/// them are reported at the scales, not at line 1, column 1.
 #[test]
-#[ignore = "poor diagnostic: the merged-scale overflow has no span (reported at 1:1)"]
 fn merged_scale_overflow_points_at_the_scales() {
     let source = "let s = sphere(1).scale(1e20);\nscene = s.scale(1e20);\n";
     let diags = diagnostics_of("merged_scale", source, &Options::default());

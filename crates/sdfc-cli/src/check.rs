@@ -49,7 +49,7 @@ pub fn run(a: Args) -> Outcome {
             Err(f) => {
                 let line = report::first_error(&source, &f);
                 let o = report::failure(&path, &source, &f);
-                println!("error {path}:{line}");
+                println!("error {path}{line}");
                 note(o, &mut worst);
             }
         }
@@ -61,7 +61,13 @@ pub fn run(a: Args) -> Outcome {
 fn strip_import_path(source: &str) -> String {
     source
         .lines()
-        .map(|l| if l.trim_start().starts_with("#define_import_path") { "" } else { l })
+        .map(|l| {
+            if l.trim_start().starts_with("#define_import_path") {
+                ""
+            } else {
+                l
+            }
+        })
         .collect::<Vec<_>>()
         .join("\n")
 }

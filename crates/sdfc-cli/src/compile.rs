@@ -39,7 +39,10 @@ pub fn run(a: Args) -> Outcome {
         Ok(s) => s,
         Err(o) => return o,
     };
-    let opts = sdfc_wgsl::Options { lib: a.lib, import_path: a.import_path.clone() };
+    let opts = sdfc_wgsl::Options {
+        lib: a.lib,
+        import_path: a.import_path.clone(),
+    };
     let text = if let Emit::Ast = a.emit {
         match sdfc_syntax::parse(&source) {
             Ok(f) => sdfc_syntax::pretty::dump(&f),

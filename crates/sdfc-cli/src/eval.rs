@@ -38,7 +38,12 @@ pub fn run(a: Args) -> Outcome {
         Err(f) => return report::failure(&path, &source, &f),
     };
     let program = compiled.program();
-    let mut params: Vec<Value<f64>> = program.scene.params.iter().map(|p| p.default.cast()).collect();
+    let mut params: Vec<Value<f64>> = program
+        .scene
+        .params
+        .iter()
+        .map(|p| p.default.cast())
+        .collect();
     for spec in &a.params {
         let Some((name, value)) = spec.split_once('=') else {
             eprintln!("sdfc: --param takes NAME=VALUE, found `{spec}`");
@@ -48,7 +53,8 @@ pub fn run(a: Args) -> Outcome {
             eprintln!("sdfc: the scene has no param `{name}`");
             return Outcome::InputError;
         };
-        let comps: Result<Vec<f64>, _> = value.split(',').map(|c| c.trim().parse::<f64>()).collect();
+        let comps: Result<Vec<f64>, _> =
+            value.split(',').map(|c| c.trim().parse::<f64>()).collect();
         match comps {
             Ok(c) if c.len() == program.scene.params[i].ty.width() => {
                 params[i] = Value::from_comps(program.scene.params[i].ty, &c);
@@ -78,11 +84,18 @@ pub fn run(a: Args) -> Outcome {
         }
         let comps: Vec<Result<f64, _>> = line.split(',').map(|c| c.trim().parse::<f64>()).collect();
         if comps.len() != 3 || comps.iter().any(|c| c.is_err()) {
-            eprintln!("error: expected `x,y,z` ({pts_path}:{}:1), found `{line}`", n + 1);
+            eprintln!(
+                "error: expected `x,y,z` ({pts_path}:{}:1), found `{line}`",
+                n + 1
+            );
             return Outcome::InputError;
         }
         let p: Vec<f64> = comps.into_iter().flatten().collect();
-        let inputs = Inputs { point: [p[0], p[1], p[2]], params: params.clone(), time: a.time };
+        let inputs = Inputs {
+            point: [p[0], p[1], p[2]],
+            params: params.clone(),
+            time: a.time,
+        };
         let d = eval_graph(&program.distance.graph, &program.distance.results, &inputs);
         out += &format!("{:?}\n", d[0].scalar().unwrap_or(f64::NAN));
     }

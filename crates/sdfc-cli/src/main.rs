@@ -11,7 +11,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "sdfc", version, about = "Compiles signed-distance-function scenes to specialised WGSL")]
+#[command(
+    name = "sdfc",
+    version,
+    about = "Compiles signed-distance-function scenes to specialised WGSL"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

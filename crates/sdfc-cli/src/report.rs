@@ -33,7 +33,7 @@ pub fn failure(path: &str, source: &str, f: &Failure) -> crate::Outcome {
     }
 }
 
-/// The first error's message with its position, for one-line summaries.
+/// The first error's message with its position (`:line:col: message`), for one-line summaries.
 pub fn first_error(source: &str, f: &Failure) -> String {
     match f {
         Failure::Diagnostics(d) => d
@@ -41,9 +41,9 @@ pub fn first_error(source: &str, f: &Failure) -> String {
             .find(|d| d.is_error())
             .map(|d| {
                 let (l, c) = d.line_col(source);
-                format!("{l}:{c}: {}", d.message)
+                format!(":{l}:{c}: {}", d.message)
             })
-            .unwrap_or_else(|| "error".into()),
-        Failure::Internal { .. } => "internal compiler error (invalid WGSL emitted)".into(),
+            .unwrap_or_else(|| ": error".into()),
+        Failure::Internal { .. } => ": internal compiler error (invalid WGSL emitted)".into(),
     }
 }

@@ -609,11 +609,9 @@ fn every_broken_scene_fails_cleanly() {
     );
 }
 
-/// Known compiler bug: a non-finite constant in a translate offset or rotation angle is not
-/// diagnosed; the emitter panics and `sdfc` prints "internal error: panicked at
-/// crates/sdfc-wgsl/src/literal.rs" and exits 2 instead of a diagnostic and exit 1.
+/// A non-finite constant in a translate offset or rotation angle is an input error (exit 1
+/// with a diagnostic), not an internal one.
 #[test]
-#[ignore = "compiler bug: non-finite constants in translate/rotate panic in the emitter"]
 fn non_finite_transform_constant_is_an_input_error() {
     let t = TempDir::new("non-finite");
     for (i, src) in [

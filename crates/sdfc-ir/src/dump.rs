@@ -16,9 +16,15 @@ pub fn const_text(v: &Value<f32>) -> String {
         Value::B(b) => b.to_string(),
         Value::M3(m) => format!(
             "mat3[{}]",
-            m.iter().map(|c| c.iter().map(f).collect::<Vec<_>>().join(", ")).collect::<Vec<_>>().join("; ")
+            m.iter()
+                .map(|c| c.iter().map(f).collect::<Vec<_>>().join(", "))
+                .collect::<Vec<_>>()
+                .join("; ")
         ),
-        v => format!("[{}]", v.comps().iter().map(f).collect::<Vec<_>>().join(", ")),
+        v => format!(
+            "[{}]",
+            v.comps().iter().map(f).collect::<Vec<_>>().join(", ")
+        ),
     }
 }
 
@@ -43,7 +49,15 @@ pub fn graph_text(g: &Graph, only: Option<&[bool]>) -> String {
             continue;
         }
         let args: Vec<String> = n.args().iter().map(|a| format!("%{}", a.0)).collect();
-        let _ = writeln!(s, "  %{}: {} = {}{}{}", id.0, n.ty, op_text(&n.op), if args.is_empty() { "" } else { " " }, args.join(", "));
+        let _ = writeln!(
+            s,
+            "  %{}: {} = {}{}{}",
+            id.0,
+            n.ty,
+            op_text(&n.op),
+            if args.is_empty() { "" } else { " " },
+            args.join(", ")
+        );
     }
     s
 }
@@ -68,7 +82,13 @@ pub fn scene_text(scene: &Scene) -> String {
         let _ = writeln!(s, "material {i} {m:?}");
     }
     for (i, p) in scene.params.iter().enumerate() {
-        let _ = writeln!(s, "param {i} {}: {} = {}", p.name, p.ty, const_text(&p.default));
+        let _ = writeln!(
+            s,
+            "param {i} {}: {} = {}",
+            p.name,
+            p.ty,
+            const_text(&p.default)
+        );
     }
     let _ = writeln!(s, "shapes");
     let mut used = vec![false; scene.values.len()];
@@ -100,36 +120,79 @@ fn shape_text(scene: &Scene, id: ShapeId, depth: usize, s: &mut String, used: &m
     let node = scene.shape(id);
     let (line, kids): (String, Vec<ShapeId>) = match &node.kind {
         ShapeKind::Prim { prim, args } => (format!("{} {}", prim.name(), ids(args, used)), vec![]),
-        ShapeKind::Sdf { body, lambda, lipschitz } => (format!("sdf lambda{lambda} body {} lipschitz {}", ids(&[*body], used), ids(&[*lipschitz], used)), vec![]),
-        ShapeKind::Displace { child, body, lambda, lipschitz } => {
-            (format!("displace lambda{lambda} body {} lipschitz {}", ids(&[*body], used), ids(&[*lipschitz], used)), vec![*child])
-        }
-        ShapeKind::Combine { op, smooth, children } => {
-            let k = smooth.map(|k| format!(" smooth {}", ids(&[k], used))).unwrap_or_default();
+        ShapeKind::Sdf {
+            body,
+            lambda,
+            lipschitz,
+        } => (
+            format!(
+                "sdf lambda{lambda} body {} lipschitz {}",
+                ids(&[*body], used),
+                ids(&[*lipschitz], used)
+            ),
+            vec![],
+        ),
+        ShapeKind::Displace {
+            child,
+            body,
+            lambda,
+            lipschitz,
+        } => (
+            format!(
+                "displace lambda{lambda} body {} lipschitz {}",
+                ids(&[*body], used),
+                ids(&[*lipschitz], used)
+            ),
+            vec![*child],
+        ),
+        ShapeKind::Combine {
+            op,
+            smooth,
+            children,
+        } => {
+            let k = smooth
+                .map(|k| format!(" smooth {}", ids(&[k], used)))
+                .unwrap_or_default();
             (format!("{}{k}", op.name()), children.clone())
         }
         ShapeKind::Map { map, child } => {
             let t = match map {
                 PointMap::Affine { m, o, s: sc } => {
-                    let part = |name: &str, n: &Option<NodeId>, used: &mut [bool]| n.map(|n| format!(" {name} {}", ids(&[n], used))).unwrap_or_default();
-                    format!("affine{}{}{}", part("m", m, used), part("o", o, used), part("s", sc, used))
+                    let part = |name: &str, n: &Option<NodeId>, used: &mut [bool]| {
+                        n.map(|n| format!(" {name} {}", ids(&[n], used)))
+                            .unwrap_or_default()
+                    };
+                    format!(
+                        "affine{}{}{}",
+                        part("m", m, used),
+                        part("o", o, used),
+                        part("s", sc, used)
+                    )
                 }
                 PointMap::Mirror(a) => format!("mirror {}", ["x", "y", "z"][*a as usize]),
                 PointMap::Repeat { period } => format!("repeat {period:?}"),
-                PointMap::RepeatLimited { period, count } => format!("repeat {period:?} count {count:?}"),
+                PointMap::RepeatLimited { period, count } => {
+                    format!("repeat {period:?} count {count:?}")
+                }
                 PointMap::Elongate(h) => format!("elongate {}", ids(&[*h], used)),
             };
             (t, vec![*child])
         }
-        ShapeKind::Modify { modifier, child } => (format!("{modifier:?}").to_lowercase().replace("nodeid(", "%").replace(')', ""), vec![*child]),
-        ShapeKind::Material { material, child } => (format!("material {} ({})", material, scene.materials[*material as usize].name), vec![*child]),
+        ShapeKind::Modify { modifier, child } => {
+            let (name, n) = match modifier {
+                crate::shape::DistMod::Round(n) => ("round", n),
+                crate::shape::DistMod::Onion(n) => ("onion", n),
+            };
+            (format!("{name} {}", ids(&[*n], used)), vec![*child])
+        }
+        ShapeKind::Material { material, child } => (
+            format!(
+                "material {} ({})",
+                material, scene.materials[*material as usize].name
+            ),
+            vec![*child],
+        ),
     };
-    if let ShapeKind::Modify { modifier, .. } = &node.kind {
-        let n = match modifier {
-            crate::shape::DistMod::Round(n) | crate::shape::DistMod::Onion(n) => *n,
-        };
-        used[n.index()] = true;
-    }
     let _ = writeln!(s, "{pad}{line}");
     for k in kids {
         shape_text(scene, k, depth + 1, s, used);

@@ -37,7 +37,12 @@ pub fn eval_func<T: Float>(f: &Func, groups: &[Func], inputs: &Inputs<T>) -> Vec
     eval_graph_in(&f.graph, &f.results, inputs, groups)
 }
 
-fn eval_graph_in<T: Float>(g: &Graph, roots: &[NodeId], inputs: &Inputs<T>, groups: &[Func]) -> Vec<Value<T>> {
+fn eval_graph_in<T: Float>(
+    g: &Graph,
+    roots: &[NodeId],
+    inputs: &Inputs<T>,
+    groups: &[Func],
+) -> Vec<Value<T>> {
     let mut vals: Vec<Option<Value<T>>> = vec![None; g.len()];
     let mut need = vec![false; g.len()];
     for r in roots {
@@ -71,9 +76,15 @@ fn eval_graph_in<T: Float>(g: &Graph, roots: &[NodeId], inputs: &Inputs<T>, grou
             Op::LambdaArg { .. } => zero_of(node.ty),
             Op::Call { func, result } => match (groups.get(func as usize), args.first()) {
                 (Some(f), Some(Value::V3(p))) => {
-                    let sub = Inputs { point: *p, params: inputs.params.clone(), time: inputs.time };
+                    let sub = Inputs {
+                        point: *p,
+                        params: inputs.params.clone(),
+                        time: inputs.time,
+                    };
                     let r = eval_graph_in(&f.graph, &f.results, &sub, groups);
-                    r.get(result as usize).copied().unwrap_or_else(|| zero_of(node.ty))
+                    r.get(result as usize)
+                        .copied()
+                        .unwrap_or_else(|| zero_of(node.ty))
                 }
                 _ => zero_of(node.ty),
             },
@@ -175,7 +186,9 @@ fn builtin<T: Float>(b: Builtin, a: &[Value<T>]) -> Value<T> {
         Fract => a[0].map(|x| x - x.floor()),
         Round => a[0].map(|x| x.round_even()),
         Sqrt => a[0].map(|x| x.sqrt()),
-        Pow => zip(&a[0], &a[1], |x, y| T::from_f64(x.to_f64().powf(y.to_f64()))),
+        Pow => zip(&a[0], &a[1], |x, y| {
+            T::from_f64(x.to_f64().powf(y.to_f64()))
+        }),
         Exp => a[0].map(|x| x.map64(f64::exp)),
         Log => a[0].map(|x| x.map64(f64::ln)),
         Sin => a[0].map(|x| x.map64(f64::sin)),
@@ -184,7 +197,9 @@ fn builtin<T: Float>(b: Builtin, a: &[Value<T>]) -> Value<T> {
         Asin => a[0].map(|x| x.map64(f64::asin)),
         Acos => a[0].map(|x| x.map64(f64::acos)),
         Atan => a[0].map(|x| x.map64(f64::atan)),
-        Atan2 => zip(&a[0], &a[1], |y, x| T::from_f64(y.to_f64().atan2(x.to_f64()))),
+        Atan2 => zip(&a[0], &a[1], |y, x| {
+            T::from_f64(y.to_f64().atan2(x.to_f64()))
+        }),
         Min => zip(&a[0], &a[1], |x, y| x.min(y)),
         Max => zip(&a[0], &a[1], |x, y| x.max(y)),
         Clamp => zip3(&a[0], &a[1], &a[2], |x, lo, hi| x.max(lo).min(hi)),

@@ -254,9 +254,7 @@ pub fn infer(op: Op, a: &[Ty]) -> Option<Ty> {
             (a.len() == 2 && a[0] == F32 && a[1] == F32).then_some(Bool)
         }
         Op::Select => (a.len() == 3 && a[0] == a[1] && a[2] == Bool).then_some(a[0]),
-        Op::MakeVec => {
-            (a.len() >= 2 && a.iter().all(|t| *t == F32)).then(|| Ty::vec(a.len()))?
-        }
+        Op::MakeVec => (a.len() >= 2 && a.iter().all(|t| *t == F32)).then(|| Ty::vec(a.len()))?,
         Op::Swizzle(s) => {
             let w = a.first()?.width();
             (a.len() == 1
@@ -273,9 +271,7 @@ pub fn infer(op: Op, a: &[Ty]) -> Option<Ty> {
         },
         Op::Transpose => (a == [Mat3]).then_some(Mat3),
         Op::Builtin(b) => infer_builtin(b, a),
-        Op::Helper(_) => {
-            (a.first() == Some(&Vec3) && a.iter().all(|t| float(*t))).then_some(F32)
-        }
+        Op::Helper(_) => (a.first() == Some(&Vec3) && a.iter().all(|t| float(*t))).then_some(F32),
     }
 }
 

@@ -59,8 +59,24 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
     let distance = opt(&funcs.distance);
     let material = opt(&funcs.material);
     let groups: Vec<Func> = funcs.groups.iter().map(&mut opt).collect();
+    // A non-finite constant that reached a function unfolded (a transform of infinite size,
+    // say) is as much an error as one that folding met.
+    for f in [&distance, &material].into_iter().chain(&groups) {
+        for (id, node) in f.graph.nodes() {
+            if node.as_const().is_some_and(|v| !v.all_finite()) {
+                errors.push((f.graph.span(id), passes::fold::NON_FINITE.to_string()));
+            }
+        }
+    }
+    // Nodes the compiler made itself have no span of their own: point at the scene.
+    let root_span = merged.shape(merged.root).span;
     let mut seen = Vec::new();
     for (span, msg) in errors {
+        let span = if span == Default::default() {
+            root_span
+        } else {
+            span
+        };
         if !seen.contains(&span) {
             seen.push(span);
             diags.push(
@@ -72,12 +88,29 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
     }
     for f in [&distance, &material].into_iter().chain(&groups) {
         if let Some(what) = &f.graph.ill_typed {
-            diags.push(Diagnostic::error(Default::default(), format!("internal compiler error: ill-typed IR in {}: {what}", f.name)));
+            diags.push(Diagnostic::error(
+                Default::default(),
+                format!(
+                    "internal compiler error: ill-typed IR in {}: {what}",
+                    f.name
+                ),
+            ));
         }
     }
     if diags.iter().any(|d| d.is_error()) {
         return (None, diags);
     }
-    let program = Program { scene: merged, distance, material, groups };
-    (Some(Stages { lowered: scene, program }), diags)
+    let program = Program {
+        scene: merged,
+        distance,
+        material,
+        groups,
+    };
+    (
+        Some(Stages {
+            lowered: scene,
+            program,
+        }),
+        diags,
+    )
 }

@@ -14,7 +14,10 @@ pub enum Op {
     /// Seconds, from the frame uniform.
     Time,
     /// A lambda's parameter, replaced by a real value when the lambda is applied.
-    LambdaArg { lambda: u32, index: u8 },
+    LambdaArg {
+        lambda: u32,
+        index: u8,
+    },
     Neg,
     Add,
     Sub,
@@ -42,7 +45,10 @@ pub enum Op {
     Helper(Helper),
     /// Result `result` of group function `func` of the program (see `Program::groups`),
     /// called with the point; calls with equal arguments are one call in WGSL.
-    Call { func: u32, result: u8 },
+    Call {
+        func: u32,
+        result: u8,
+    },
 }
 
 /// Component selection, `.x` to `.zyx`; `idx[..len]` are the components.

@@ -64,9 +64,13 @@ impl Default for Material {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightKind {
-    Point { position: [f32; 3] },
+    Point {
+        position: [f32; 3],
+    },
     /// `direction` is the way the light travels, normalised.
-    Directional { direction: [f32; 3] },
+    Directional {
+        direction: [f32; 3],
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]

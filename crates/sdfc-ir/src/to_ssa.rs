@@ -3,10 +3,10 @@
 //! combinations become `min`/`max` (and, for materials, selects and blends).
 
 use crate::func::{Func, FuncKind};
-use crate::passes::fold::const_value;
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
 use crate::ops::{Builtin, Helper, Op, Swizzle};
+use crate::passes::fold::const_value;
 use crate::scene::{Material, Scene};
 use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
@@ -37,14 +37,28 @@ pub fn functions(scene: &Scene) -> Functions {
     let mut b = Builder::new(scene, false, groups);
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
-    let distance = Func { name: "scene_distance".into(), kind: FuncKind::Distance, graph: b.g, results: vec![d] };
+    let distance = Func {
+        name: "scene_distance".into(),
+        kind: FuncKind::Distance,
+        graph: b.g,
+        results: vec![d],
+    };
     groups = b.groups;
     let mut b = Builder::new(scene, true, groups);
     let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
     let m = m.unwrap_or_else(|| b.material_const(0));
-    let material = Func { name: "scene_material".into(), kind: FuncKind::Material, graph: b.g, results: m.to_vec() };
-    Functions { distance, material, groups: b.groups }
+    let material = Func {
+        name: "scene_material".into(),
+        kind: FuncKind::Material,
+        graph: b.g,
+        results: m.to_vec(),
+    };
+    Functions {
+        distance,
+        material,
+        groups: b.groups,
+    }
 }
 
 struct Builder<'s> {
@@ -83,15 +97,39 @@ impl<'s> Builder<'s> {
         let (d, m) = sub.combine(CombineOp::Union, None, children, sp, mat);
         let index = sub.groups.len() as u32;
         let (kind, results, name) = match m {
-            Some(m) => (FuncKind::MaterialGroup, vec![d, m[0], m[1]], format!("scene_group{index}_material")),
+            Some(m) => (
+                FuncKind::MaterialGroup,
+                vec![d, m[0], m[1]],
+                format!("scene_group{index}_material"),
+            ),
             None => (FuncKind::Distance, vec![d], format!("scene_group{index}")),
         };
-        sub.groups.push(Func { name, kind, graph: sub.g, results });
+        sub.groups.push(Func {
+            name,
+            kind,
+            graph: sub.g,
+            results,
+        });
         self.groups = sub.groups;
-        let call = |g: &mut Graph, result: u8, ty: Ty| g.add_typed(Op::Call { func: index, result }, &[p], ty, Default::default());
+        let call = |g: &mut Graph, result: u8, ty: Ty| {
+            g.add_typed(
+                Op::Call {
+                    func: index,
+                    result,
+                },
+                &[p],
+                ty,
+                Default::default(),
+            )
+        };
         let d = call(&mut self.g, 0, Ty::F32);
         let d = self.hinted(d, "d");
-        let m = self.materials.then(|| [call(&mut self.g, 1, Ty::Vec4), call(&mut self.g, 2, Ty::Vec4)]);
+        let m = self.materials.then(|| {
+            [
+                call(&mut self.g, 1, Ty::Vec4),
+                call(&mut self.g, 2, Ty::Vec4),
+            ]
+        });
         (d, m)
     }
 
@@ -114,13 +152,25 @@ impl<'s> Builder<'s> {
         order.sort();
         for n in order {
             let node = *vals.node(n);
-            let lookup = |m: NodeId, local: &FxHashMap<NodeId, NodeId>, imported: &FxHashMap<NodeId, NodeId>| {
-                local.get(&m).or_else(|| imported.get(&m)).copied().unwrap_or(NodeId(0))
+            let lookup = |m: NodeId,
+                          local: &FxHashMap<NodeId, NodeId>,
+                          imported: &FxHashMap<NodeId, NodeId>| {
+                local
+                    .get(&m)
+                    .or_else(|| imported.get(&m))
+                    .copied()
+                    .unwrap_or(NodeId(0))
             };
-            let args: Vec<NodeId> = node.args().iter().map(|a| lookup(*a, &local, &self.imported)).collect();
+            let args: Vec<NodeId> = node
+                .args()
+                .iter()
+                .map(|a| lookup(*a, &local, &self.imported))
+                .collect();
             let new = match (node.op, subst) {
                 (Op::LambdaArg { lambda, index: 0 }, Some((l, p))) if lambda == l => p,
-                (Op::Param(_) | Op::LambdaArg { .. }, _) => self.g.input(node.op, node.ty, vals.span(n)),
+                (Op::Param(_) | Op::LambdaArg { .. }, _) => {
+                    self.g.input(node.op, node.ty, vals.span(n))
+                }
                 (op, _) => self.g.add(op, &args, vals.span(n)),
             };
             if subst.is_some() {
@@ -170,14 +220,23 @@ impl<'s> Builder<'s> {
                 let d = self.hinted(d, "d");
                 (d, self.materials.then(|| self.material_const(mat)))
             }
-            ShapeKind::Sdf { body, lambda, lipschitz } => {
+            ShapeKind::Sdf {
+                body,
+                lambda,
+                lipschitz,
+            } => {
                 let d = self.import(*body, Some((*lambda, p)));
                 let l = self.import(*lipschitz, None);
                 let d = self.op(Op::Div, &[d, l]);
                 let d = self.hinted(d, "d");
                 (d, self.materials.then(|| self.material_const(mat)))
             }
-            ShapeKind::Displace { child, body, lambda, lipschitz } => {
+            ShapeKind::Displace {
+                child,
+                body,
+                lambda,
+                lipschitz,
+            } => {
                 let (d, m) = self.shape(*child, p, mat);
                 let f = self.import(*body, Some((*lambda, p)));
                 let l = self.import(*lipschitz, None);
@@ -185,7 +244,11 @@ impl<'s> Builder<'s> {
                 let d = self.op(Op::Div, &[d, l]);
                 (self.hinted(d, "d"), m)
             }
-            ShapeKind::Combine { op, smooth, children } => self.combine(*op, *smooth, children, p, mat),
+            ShapeKind::Combine {
+                op,
+                smooth,
+                children,
+            } => self.combine(*op, *smooth, children, p, mat),
             ShapeKind::Map { map, child } => self.map(map, *child, p, mat),
             ShapeKind::Modify { modifier, child } => {
                 let (d, m) = self.shape(*child, p, mat);
@@ -235,15 +298,26 @@ impl<'s> Builder<'s> {
         }
     }
 
-    fn combine(&mut self, op: CombineOp, smooth: Option<NodeId>, children: &[ShapeId], p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
-        let parts: Vec<(NodeId, Option<Mat>)> = if op == CombineOp::Union && smooth.is_none() && children.len() > GROUP_SIZE {
-            // Balanced groups of at most GROUP_SIZE children each.
-            let n = children.len().div_ceil(GROUP_SIZE);
-            let per = children.len().div_ceil(n);
-            children.chunks(per).map(|c| self.group(c, p, mat)).collect()
-        } else {
-            children.iter().map(|c| self.shape(*c, p, mat)).collect()
-        };
+    fn combine(
+        &mut self,
+        op: CombineOp,
+        smooth: Option<NodeId>,
+        children: &[ShapeId],
+        p: NodeId,
+        mat: u32,
+    ) -> (NodeId, Option<Mat>) {
+        let parts: Vec<(NodeId, Option<Mat>)> =
+            if op == CombineOp::Union && smooth.is_none() && children.len() > GROUP_SIZE {
+                // Balanced groups of at most GROUP_SIZE children each.
+                let n = children.len().div_ceil(GROUP_SIZE);
+                let per = children.len().div_ceil(n);
+                children
+                    .chunks(per)
+                    .map(|c| self.group(c, p, mat))
+                    .collect()
+            } else {
+                children.iter().map(|c| self.shape(*c, p, mat)).collect()
+            };
         let Some(&(mut d, mut m)) = parts.first() else {
             let far = self.f(1e30);
             return (far, self.materials.then(|| self.material_const(mat)));
@@ -318,7 +392,15 @@ impl<'s> Builder<'s> {
 
     /// The material after combining `a` (distance `da`) with `b` (distance `db`): the operand
     /// that decides the distance gives its material; smooth operators blend by `h`.
-    fn blend(&mut self, op: CombineOp, da: NodeId, db: NodeId, ma: Mat, mb: Mat, h: Option<NodeId>) -> Mat {
+    fn blend(
+        &mut self,
+        op: CombineOp,
+        da: NodeId,
+        db: NodeId,
+        ma: Mat,
+        mb: Mat,
+        h: Option<NodeId>,
+    ) -> Mat {
         // One material on both sides needs no choice (and mix(m, m, h) would round).
         if ma == mb {
             return ma;
@@ -326,6 +408,9 @@ impl<'s> Builder<'s> {
         if let Some(h) = h {
             let h4 = self.g.splat(h, Ty::Vec4);
             return [0, 1].map(|i| {
+                if ma[i] == mb[i] {
+                    return ma[i];
+                }
                 let n = self.g.builtin(Builtin::Mix, &[mb[i], ma[i], h4]);
                 self.hinted(n, "m")
             });
@@ -344,12 +429,21 @@ impl<'s> Builder<'s> {
             }
         };
         [0, 1].map(|i| {
+            if ma[i] == mb[i] {
+                return ma[i];
+            }
             let n = self.op(Op::Select, &[ma[i], mb[i], take_b]);
             self.hinted(n, "m")
         })
     }
 
-    fn map(&mut self, map: &PointMap, child: ShapeId, p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
+    fn map(
+        &mut self,
+        map: &PointMap,
+        child: ShapeId,
+        p: NodeId,
+        mat: u32,
+    ) -> (NodeId, Option<Mat>) {
         let q = match map {
             PointMap::Affine { m, o, s } => {
                 let mut q = p;
@@ -358,7 +452,9 @@ impl<'s> Builder<'s> {
                     q = self.op(Op::MatMul, &[m, q]);
                 }
                 if let Some(o) = o {
-                    q = match const_value(&self.scene.values, *o, &mut self.consts) {
+                    q = match const_value(&self.scene.values, *o, &mut self.consts)
+                        .filter(|v| v.all_finite())
+                    {
                         // p - t reads better than p + (-t) and is the same number.
                         Some(v) => {
                             let t = self.g.konst(v.map(|x| -x));

@@ -23,7 +23,16 @@ enum E {
 
 fn leaf() -> impl Strategy<Value = E> {
     prop_oneof![
-        prop_oneof![Just(0.0f32), Just(-0.0), Just(1.0), Just(-1.0), Just(0.5), Just(2.0), -10.0f32..10.0].prop_map(E::Const),
+        prop_oneof![
+            Just(0.0f32),
+            Just(-0.0),
+            Just(1.0),
+            Just(-1.0),
+            Just(0.5),
+            Just(2.0),
+            -10.0f32..10.0
+        ]
+        .prop_map(E::Const),
         (0u16..3).prop_map(E::Param),
     ]
 }
@@ -32,11 +41,20 @@ fn expr() -> impl Strategy<Value = E> {
     leaf().prop_recursive(6, 48, 4, |inner| {
         prop_oneof![
             (0u8..9, inner.clone()).prop_map(|(o, a)| E::Un(o, Box::new(a))),
-            (0u8..9, inner.clone(), inner.clone()).prop_map(|(o, a, b)| E::Bin(o, Box::new(a), Box::new(b))),
-            (inner.clone(), inner.clone(), inner.clone(), inner.clone())
-                .prop_map(|(a, b, c, d)| E::Sel(Box::new(a), Box::new(b), Box::new(c), Box::new(d))),
-            (inner.clone(), inner.clone(), inner, 0u8..3)
-                .prop_map(|(a, b, c, i)| E::Vec(Box::new(a), Box::new(b), Box::new(c), i)),
+            (0u8..9, inner.clone(), inner.clone()).prop_map(|(o, a, b)| E::Bin(
+                o,
+                Box::new(a),
+                Box::new(b)
+            )),
+            (inner.clone(), inner.clone(), inner.clone(), inner.clone()).prop_map(
+                |(a, b, c, d)| E::Sel(Box::new(a), Box::new(b), Box::new(c), Box::new(d))
+            ),
+            (inner.clone(), inner.clone(), inner, 0u8..3).prop_map(|(a, b, c, i)| E::Vec(
+                Box::new(a),
+                Box::new(b),
+                Box::new(c),
+                i
+            )),
         ]
     })
 }
@@ -100,7 +118,11 @@ fn build(g: &mut Graph, e: &E) -> NodeId {
 
 fn same(a: &Value<f32>, b: &Value<f32>) -> bool {
     let (ca, cb) = (a.comps(), b.comps());
-    ca.len() == cb.len() && ca.iter().zip(&cb).all(|(x, y)| x == y || (x.is_nan() && y.is_nan()))
+    ca.len() == cb.len()
+        && ca
+            .iter()
+            .zip(&cb)
+            .all(|(x, y)| x == y || (x.is_nan() && y.is_nan()))
 }
 
 proptest! {
@@ -110,7 +132,7 @@ proptest! {
     fn optimise_keeps_values(e in expr(), params in prop::array::uniform3(-5.0f32..5.0)) {
         let mut g = Graph::new();
         let root = build(&mut g, &e);
-        let before = Func { name: "t", graph: g, results: vec![root] };
+        let before = Func { name: "t".into(), kind: sdfc_ir::func::FuncKind::Distance, graph: g, results: vec![root] };
         let (after, _) = sdfc_ir::passes::optimise(&before);
         let inputs = Inputs { point: [0.0; 3], params: params.iter().map(|x| Value::F(*x)).collect(), time: 0.0 };
         let vb = eval_graph(&before.graph, &before.results, &inputs);
@@ -127,10 +149,18 @@ fn folding_gives_f32_results() {
     let a = g.f32(0.1);
     let b = g.f32(0.2);
     let s = g.op(Op::Add, &[a, b]);
-    let f = Func { name: "t", graph: g, results: vec![s] };
+    let f = Func {
+        name: "t".into(),
+        kind: sdfc_ir::func::FuncKind::Distance,
+        graph: g,
+        results: vec![s],
+    };
     let (opt, errs) = sdfc_ir::passes::optimise(&f);
     assert!(errs.is_empty());
-    assert_eq!(opt.graph.as_const(opt.results[0]), Some(Value::F(0.1f32 + 0.2f32)));
+    assert_eq!(
+        opt.graph.as_const(opt.results[0]),
+        Some(Value::F(0.1f32 + 0.2f32))
+    );
     assert_eq!(opt.graph.len(), 1);
 }
 
@@ -140,7 +170,12 @@ fn non_finite_constants_are_reported() {
     let a = g.f32(1.0);
     let b = g.f32(0.0);
     let s = g.op(Op::Div, &[a, b]);
-    let f = Func { name: "t", graph: g, results: vec![s] };
+    let f = Func {
+        name: "t".into(),
+        kind: sdfc_ir::func::FuncKind::Distance,
+        graph: g,
+        results: vec![s],
+    };
     let (_, errs) = sdfc_ir::passes::optimise(&f);
     assert_eq!(errs.len(), 1);
 }

@@ -22,7 +22,12 @@ fn dist(src: &str, p: [f64; 3]) -> f64 {
 
 fn albedo(src: &str, p: [f64; 3]) -> [f64; 4] {
     let prog = program(src);
-    match eval_graph(&prog.material.graph, &prog.material.results, &Inputs::<f64>::at(p))[0] {
+    match eval_graph(
+        &prog.material.graph,
+        &prog.material.results,
+        &Inputs::<f64>::at(p),
+    )[0]
+    {
         Value::V4(a) => a,
         v => panic!("albedo is {v:?}"),
     }
@@ -35,7 +40,13 @@ fn close(a: f64, b: f64) -> bool {
 macro_rules! check {
     ($scene:expr, $p:expr, $want:expr) => {{
         let got = dist(concat!("scene = ", $scene, ";"), $p);
-        assert!(close(got, $want), "{} at {:?}: got {got}, want {}", $scene, $p, $want);
+        assert!(
+            close(got, $want),
+            "{} at {:?}: got {got}, want {}",
+            $scene,
+            $p,
+            $want
+        );
     }};
 }
 
@@ -47,7 +58,11 @@ fn primitives_use_full_sizes() {
     check!("box(2)", [2.0, 2.0, 1.0], 2f64.sqrt());
     check!("round_box([2, 2, 2], 0.25)", [3.0, 0.0, 0.0], 2.0);
     // Inner half extent 1 - 0.25; the corner distance is sqrt(2) * 1.25, less the rounding.
-    check!("round_box([2, 2, 2], 0.25)", [2.0, 2.0, 0.0], 1.25 * 2f64.sqrt() - 0.25);
+    check!(
+        "round_box([2, 2, 2], 0.25)",
+        [2.0, 2.0, 0.0],
+        1.25 * 2f64.sqrt() - 0.25
+    );
     check!("plane([0, 2, 0], 1)", [5.0, 3.0, 0.0], 2.0);
     check!("torus(2, 0.5)", [2.0, 0.0, 0.0], -0.5);
     check!("torus(2, 0.5)", [0.0, 1.0, 0.0], 5f64.sqrt() - 0.5);
@@ -65,14 +80,38 @@ fn transforms_follow_the_spec() {
     check!("sphere(1).scale(2)", [3.0, 0.0, 0.0], 1.0);
     // A positive angle about +y turns +z toward +x: a bar along z ends up along x.
     check!("box([0.2, 0.2, 2]).rotate_y(90deg)", [0.9, 0.0, 0.0], -0.1);
-    check!("box([0.2, 0.2, 2]).rotate([0, 5, 0], 90deg)", [0.9, 0.0, 0.0], -0.1);
+    check!(
+        "box([0.2, 0.2, 2]).rotate([0, 5, 0], 90deg)",
+        [0.9, 0.0, 0.0],
+        -0.1
+    );
     // About +x, +y turns toward +z; about +z, +x turns toward +y.
-    check!("sphere(0.5).translate([0, 1, 0]).rotate_x(90deg)", [0.0, 0.0, 1.0], -0.5);
-    check!("sphere(0.5).translate([1, 0, 0]).rotate_z(90deg)", [0.0, 1.0, 0.0], -0.5);
+    check!(
+        "sphere(0.5).translate([0, 1, 0]).rotate_x(90deg)",
+        [0.0, 0.0, 1.0],
+        -0.5
+    );
+    check!(
+        "sphere(0.5).translate([1, 0, 0]).rotate_z(90deg)",
+        [0.0, 1.0, 0.0],
+        -0.5
+    );
     // Left to right: rotate, then move.
-    check!("sphere(0.5).translate([1, 0, 0]).rotate_y(90deg).translate([0, 3, 0])", [0.0, 3.0, -1.0], -0.5);
-    check!("sphere(1).translate([2, 0, 0]).mirror_x()", [-2.0, 0.0, 0.0], -1.0);
-    check!("sphere(1).translate([0, 0, 2]).mirror_z()", [0.0, 0.0, -2.0], -1.0);
+    check!(
+        "sphere(0.5).translate([1, 0, 0]).rotate_y(90deg).translate([0, 3, 0])",
+        [0.0, 3.0, -1.0],
+        -0.5
+    );
+    check!(
+        "sphere(1).translate([2, 0, 0]).mirror_x()",
+        [-2.0, 0.0, 0.0],
+        -1.0
+    );
+    check!(
+        "sphere(1).translate([0, 0, 2]).mirror_z()",
+        [0.0, 0.0, -2.0],
+        -1.0
+    );
     check!("sphere(1).elongate([1, 0, 0])", [1.5, 0.0, 0.0], -0.5);
     check!("box(2).round(0.5)", [2.0, 0.0, 0.0], 0.5);
     check!("sphere(1).onion(0.1)", [0.0, 0.0, 0.0], 0.9);
@@ -85,33 +124,81 @@ fn repetition() {
     // y is not repeated: far above, the distance keeps growing.
     check!("sphere(0.3).repeat([3, 0, 3])", [0.0, 10.0, 0.0], 9.7);
     // Two copies along x, centred: at x = -1 and x = 1.
-    check!("sphere(0.5).repeat([2, 0, 0], count: [2, 1, 1])", [1.0, 0.0, 0.0], -0.5);
-    check!("sphere(0.5).repeat([2, 0, 0], count: [2, 1, 1])", [-1.0, 0.0, 0.0], -0.5);
-    check!("sphere(0.5).repeat([2, 0, 0], count: [2, 1, 1])", [4.0, 0.0, 0.0], 2.5);
+    check!(
+        "sphere(0.5).repeat([2, 0, 0], count: [2, 1, 1])",
+        [1.0, 0.0, 0.0],
+        -0.5
+    );
+    check!(
+        "sphere(0.5).repeat([2, 0, 0], count: [2, 1, 1])",
+        [-1.0, 0.0, 0.0],
+        -0.5
+    );
+    check!(
+        "sphere(0.5).repeat([2, 0, 0], count: [2, 1, 1])",
+        [4.0, 0.0, 0.0],
+        2.5
+    );
     // Three copies: at -2, 0, 2.
-    check!("sphere(0.5).repeat([2, 2, 2], count: 3)", [2.0, -2.0, 0.0], -0.5);
-    check!("sphere(0.5).repeat([2, 2, 2], count: 3)", [6.0, 0.0, 0.0], 3.5);
+    check!(
+        "sphere(0.5).repeat([2, 2, 2], count: 3)",
+        [2.0, -2.0, 0.0],
+        -0.5
+    );
+    check!(
+        "sphere(0.5).repeat([2, 2, 2], count: 3)",
+        [6.0, 0.0, 0.0],
+        3.5
+    );
 }
 
 #[test]
 fn combinations() {
-    check!("sphere(1) | sphere(1).translate([3, 0, 0])", [1.5, 0.0, 0.0], 0.5);
-    check!("sphere(2) & sphere(2).translate([3, 0, 0])", [1.5, 0.0, 0.0], -0.5);
+    check!(
+        "sphere(1) | sphere(1).translate([3, 0, 0])",
+        [1.5, 0.0, 0.0],
+        0.5
+    );
+    check!(
+        "sphere(2) & sphere(2).translate([3, 0, 0])",
+        [1.5, 0.0, 0.0],
+        -0.5
+    );
     check!("sphere(2) - sphere(1)", [0.0, 0.0, 0.0], 1.0);
     check!("xor(sphere(2), sphere(1))", [0.0, 0.0, 0.0], 1.0);
     check!("xor(sphere(2), sphere(1))", [1.5, 0.0, 0.0], -0.5);
-    check!("union(sphere(1), sphere(1).translate([3, 0, 0]), smooth: 0)", [1.5, 0.0, 0.0], 0.5);
+    check!(
+        "union(sphere(1), sphere(1).translate([3, 0, 0]), smooth: 0)",
+        [1.5, 0.0, 0.0],
+        0.5
+    );
     // Smooth union at the midpoint: both distances 0.5, h = 0.5, d = 0.5 - k/4.
-    check!("union(sphere(1), sphere(1).translate([3, 0, 0]), smooth: 1)", [1.5, 0.0, 0.0], 0.25);
-    check!("intersect(sphere(2), sphere(2).translate([3, 0, 0]), smooth: 1)", [1.5, 0.0, 0.0], -0.25);
+    check!(
+        "union(sphere(1), sphere(1).translate([3, 0, 0]), smooth: 1)",
+        [1.5, 0.0, 0.0],
+        0.25
+    );
+    check!(
+        "intersect(sphere(2), sphere(2).translate([3, 0, 0]), smooth: 1)",
+        [1.5, 0.0, 0.0],
+        -0.25
+    );
     // iq's smooth subtraction: a = 0, b = -0.5, h = 0.75, d = mix(a, -b, h) + k h (1 - h).
-    check!("subtract(sphere(2), sphere(1).translate([2.5, 0, 0]), smooth: 1)", [2.0, 0.0, 0.0], 0.5625);
+    check!(
+        "subtract(sphere(2), sphere(1).translate([2.5, 0, 0]), smooth: 1)",
+        [2.0, 0.0, 0.0],
+        0.5625
+    );
 }
 
 #[test]
 fn expressions_fold_like_wgsl() {
     check!("sphere(7 % 3 + -7 % 3)", [5.0, 0.0, 0.0], 2.0);
-    check!("sphere(max(abs(-1), 0.5) * [2, 3, 4].y / 3)", [5.0, 0.0, 0.0], 4.0);
+    check!(
+        "sphere(max(abs(-1), 0.5) * [2, 3, 4].y / 3)",
+        [5.0, 0.0, 0.0],
+        4.0
+    );
     check!("sphere(select(1, 2, 3 > 2))", [5.0, 0.0, 0.0], 3.0);
     check!("sphere(length([3, 4]))", [5.0, 0.0, 0.0], 0.0);
 }
@@ -119,7 +206,11 @@ fn expressions_fold_like_wgsl() {
 #[test]
 fn params_and_time_stay_symbolic() {
     let prog = program("param r = 1; scene = sphere(r + time);");
-    let inputs = Inputs { point: [5.0, 0.0, 0.0], params: vec![Value::F(2.0)], time: 0.5 };
+    let inputs = Inputs {
+        point: [5.0, 0.0, 0.0],
+        params: vec![Value::F(2.0)],
+        time: 0.5,
+    };
     let d = eval_graph(&prog.distance.graph, &prog.distance.results, &inputs)[0];
     assert_eq!(d, Value::F(2.5));
 }
@@ -149,6 +240,9 @@ fn transform_chains_merge_into_one_map() {
     let text = sdfc_ir::dump::scene_text(&prog.scene);
     assert_eq!(text.matches("affine").count(), 1, "{text}");
     let a = dist("scene = sphere(1).translate([1, 0, 0]).translate([0, 2, 0]).rotate_y(10deg).rotate_y(20deg);", [0.3, 1.7, 0.2]);
-    let b = dist("scene = sphere(1).translate([1, 2, 0]).rotate_y(30deg);", [0.3, 1.7, 0.2]);
+    let b = dist(
+        "scene = sphere(1).translate([1, 2, 0]).rotate_y(30deg);",
+        [0.3, 1.7, 0.2],
+    );
     assert!((a - b).abs() < 1e-6, "{a} {b}");
 }

@@ -144,12 +144,15 @@ fn buffer_plain(buffer: &mut Buffer, file: &str, line: usize, col: usize, msg: &
     let _ = writeln!(buffer, "error: {msg} ({file}:{line}:{col})");
 }
 
-/// The known name closest to `name` (Damerau-free Levenshtein), if it is close enough to be a
-/// plausible misspelling.
+/// The known name closest to `name` (edit distance counting a swap of neighbouring letters
+/// as one edit), if it is close enough to be a plausible misspelling.
 pub fn nearest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let mut best: Option<(usize, &str)> = None;
     for k in known {
-        let d = levenshtein(name, k);
+        if k == name {
+            continue;
+        }
+        let d = edit_distance(name, k);
         let limit = (name.chars().count().max(k.chars().count()) / 3).max(1);
         if d <= limit && best.is_none_or(|(bd, bk)| d < bd || (d == bd && k < bk)) {
             best = Some((d, k));
@@ -158,16 +161,41 @@ pub fn nearest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Opti
     best.map(|(_, k)| k)
 }
 
-fn levenshtein(a: &str, b: &str) -> usize {
+/// Optimal string alignment distance: insertions, deletions, substitutions and swaps of
+/// adjacent characters each cost one.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
     let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let cost = usize::from(ca != *cb);
-            cur[j + 1] = (prev[j] + cost).min(prev[j + 1] + 1).min(cur[j] + 1);
-        }
-        prev = cur;
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
     }
-    prev[b.len()]
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn swaps_count_as_one_edit() {
+        assert_eq!(nearest("rde", ["red", "blue"]), Some("red"));
+        assert_eq!(nearest("sphree", ["sphere", "box"]), Some("sphere"));
+        assert_eq!(nearest("xyz", ["sphere"]), None);
+    }
 }

@@ -25,8 +25,12 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
 pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
     let (ret_ty, ret): (&str, fn(&[String]) -> String) = match f.kind {
         FuncKind::Distance => ("f32", |r| r[0].clone()),
-        FuncKind::Material => ("SceneMaterial", |r| format!("SceneMaterial({}, {})", r[0], r[1])),
-        FuncKind::MaterialGroup => ("SceneSample", |r| format!("SceneSample({}, {}, {})", r[0], r[1], r[2])),
+        FuncKind::Material => ("SceneMaterial", |r| {
+            format!("SceneMaterial({}, {})", r[0], r[1])
+        }),
+        FuncKind::MaterialGroup => ("SceneSample", |r| {
+            format!("SceneSample({}, {}, {})", r[0], r[1], r[2])
+        }),
     };
     let g = &f.graph;
     let mut text: Vec<String> = vec![String::new(); g.len()];
@@ -37,15 +41,26 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
     for (id, node) in g.nodes() {
         if let Op::Call { func, result } = node.op {
             let arg = node.args()[0];
-            let Some(callee) = groups.get(func as usize) else { continue };
+            let Some(callee) = groups.get(func as usize) else {
+                continue;
+            };
             let value = match calls.get(&(func, arg)) {
                 Some(v) => v.clone(),
                 None => {
-                    let hint = if callee.kind == FuncKind::MaterialGroup { "s" } else { "d" };
+                    let hint = if callee.kind == FuncKind::MaterialGroup {
+                        "s"
+                    } else {
+                        "d"
+                    };
                     let n = counters.entry(hint).or_insert(0);
                     let name = format!("{hint}{n}");
                     *n += 1;
-                    let _ = writeln!(body, "    let {name} = {}({});", callee.name, text[arg.index()]);
+                    let _ = writeln!(
+                        body,
+                        "    let {name} = {}({});",
+                        callee.name,
+                        text[arg.index()]
+                    );
                     calls.insert((func, arg), name.clone());
                     name
                 }
@@ -58,7 +73,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             };
             continue;
         }
-        let args: Vec<&str> = node.args().iter().map(|a| text[a.index()].as_str()).collect();
+        let args: Vec<&str> = node
+            .args()
+            .iter()
+            .map(|a| text[a.index()].as_str())
+            .collect();
         let (expr, inline) = expression(g, id, &args);
         if inline {
             text[id.index()] = expr;
@@ -116,7 +135,10 @@ fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
         Op::Mul | Op::MatMul => (bin("*"), false),
         Op::Div => (bin("/"), false),
         // Floored modulo, spelled exactly as the evaluator computes it.
-        Op::Mod => (format!("{0} - {1} * floor({0} / {1})", operand(a[0]), operand(a[1])), false),
+        Op::Mod => (
+            format!("{0} - {1} * floor({0} / {1})", operand(a[0]), operand(a[1])),
+            false,
+        ),
         Op::Lt => (bin("<"), false),
         Op::Le => (bin("<="), false),
         Op::Gt => (bin(">"), false),
@@ -133,7 +155,10 @@ fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
             let src = node.args()[0];
             if g.ty(src) == Ty::F32 {
                 (format!("{}({})", wgsl_type(node.ty), a[0]), true)
-            } else if a[0].chars().all(|c| c.is_alphanumeric() || c == '_' || c == '.' || c == '[' || c == ']') {
+            } else if a[0]
+                .chars()
+                .all(|c| c.is_alphanumeric() || c == '_' || c == '.' || c == '[' || c == ']')
+            {
                 (format!("{}.{}", a[0], s.letters()), true)
             } else {
                 (format!("({}).{}", a[0], s.letters()), true)

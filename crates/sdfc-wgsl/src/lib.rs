@@ -82,9 +82,17 @@ pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
             .name("sdfc-compile".into())
             .stack_size(STACK_BYTES)
             .spawn_scoped(s, || compile_here(source, opts))
-            .map_err(|e| Failure::Internal { report: format!("could not start the compiler thread: {e}"), wgsl: String::new() })?
+            .map_err(|e| Failure::Internal {
+                report: format!("could not start the compiler thread: {e}"),
+                wgsl: String::new(),
+            })?
             .join()
-            .unwrap_or_else(|_| Err(Failure::Internal { report: "the compiler panicked".into(), wgsl: String::new() }))
+            .unwrap_or_else(|_| {
+                Err(Failure::Internal {
+                    report: "the compiler panicked".into(),
+                    wgsl: String::new(),
+                })
+            })
     })
 }
 
@@ -96,7 +104,11 @@ pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
         return Err(Failure::Diagnostics(diags));
     };
     let wgsl = emit_validated(&stages.program, opts)?;
-    Ok(Compiled { wgsl, stages, warnings: diags })
+    Ok(Compiled {
+        wgsl,
+        stages,
+        warnings: diags,
+    })
 }
 
 /// Emits and validates; the import-path line (not WGSL) is added after validation.

@@ -5,7 +5,8 @@ use sdfc_ir::value::Value;
 /// An f32 as a WGSL float literal that parses back to the same bits (Rust's shortest
 /// round-trip formatting always has a `.` or an exponent, so it is never an integer).
 pub fn float(x: f32) -> String {
-    debug_assert!(x.is_finite(), "non-finite constants are rejected before emission");
+    // Non-finite constants are compile errors before emission; were one to slip through, its
+    // text (`NaN`, `inf`) fails naga's validation and is reported as an internal error.
     let s = format!("{x:?}");
     if s.contains('.') || s.contains('e') {
         s
@@ -47,7 +48,17 @@ mod tests {
 
     #[test]
     fn floats_round_trip_and_stay_floats() {
-        for x in [0.0f32, -0.0, 1.0, 0.1, 1e-7, 3.4028235e38, 1.17549435e-38, 123456789.0, -2.5] {
+        for x in [
+            0.0f32,
+            -0.0,
+            1.0,
+            0.1,
+            1e-7,
+            3.4028235e38,
+            f32::MIN_POSITIVE,
+            123456790.0,
+            -2.5,
+        ] {
             let s = float(x);
             assert!(s.contains('.') || s.contains('e'), "{s}");
             assert_eq!(s.parse::<f32>().unwrap().to_bits(), x.to_bits(), "{s}");

@@ -15,7 +15,11 @@ pub fn emit(scene: &Scene) -> String {
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
-    s += if scene.render.relaxation > 1.0 { parts::MARCH_RELAXED } else { parts::MARCH_PLAIN };
+    s += if scene.render.relaxation > 1.0 {
+        parts::MARCH_RELAXED
+    } else {
+        parts::MARCH_PLAIN
+    };
     s += "\n";
     s += parts::CAMERA;
     s += "\n";
@@ -41,7 +45,13 @@ fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32) {
     let c = &scene.camera;
     let v = |a: [f32; 3]| a.map(|x| x as f64);
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
     let norm = |a: [f64; 3]| {
         let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
         a.map(|x| x / l)
@@ -50,14 +60,23 @@ fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32) {
     let right = norm(cross(forward, v(c.up)));
     let up = cross(right, forward);
     let f = |a: [f64; 3]| a.map(|x| x as f32);
-    (f(forward), f(right), f(up), (c.fov as f64 * 0.5).tan() as f32)
+    (
+        f(forward),
+        f(right),
+        f(up),
+        (c.fov as f64 * 0.5).tan() as f32,
+    )
 }
 
 fn constants(scene: &Scene) -> String {
     let r = &scene.render;
     let (forward, right, up, tan_half) = camera_basis(scene);
     let mut s = String::from("// Camera (spec section 8) and render settings (spec section 7).\n");
-    let _ = writeln!(s, "const CAMERA_POSITION: vec3<f32> = {};", vec3(scene.camera.position));
+    let _ = writeln!(
+        s,
+        "const CAMERA_POSITION: vec3<f32> = {};",
+        vec3(scene.camera.position)
+    );
     let _ = writeln!(s, "const CAMERA_FORWARD: vec3<f32> = {};", vec3(forward));
     let _ = writeln!(s, "const CAMERA_RIGHT: vec3<f32> = {};", vec3(right));
     let _ = writeln!(s, "const CAMERA_UP: vec3<f32> = {};", vec3(up));
@@ -69,7 +88,11 @@ fn constants(scene: &Scene) -> String {
     }
     let _ = writeln!(s, "const ANTIALIAS: u32 = {}u;", r.antialias);
     let _ = writeln!(s, "const BACKGROUND: vec3<f32> = {};", vec3(r.background));
-    let _ = writeln!(s, "const INV_GAMMA: f32 = {};", float((1.0 / r.gamma as f64) as f32));
+    let _ = writeln!(
+        s,
+        "const INV_GAMMA: f32 = {};",
+        float((1.0 / r.gamma as f64) as f32)
+    );
     s
 }
 
@@ -106,7 +129,11 @@ fn shade(scene: &Scene) -> String {
             }
             LightKind::Point { position } => {
                 let _ = writeln!(s, "        // light {i}: point");
-                let _ = writeln!(s, "        let l = safe_normalize({} - p);", vec3(*position));
+                let _ = writeln!(
+                    s,
+                    "        let l = safe_normalize({} - p);",
+                    vec3(*position)
+                );
             }
         }
         let _ = writeln!(s, "        let diffuse = max(dot(n, l), 0.0);");

@@ -16,7 +16,10 @@ fn uses(f: &&Func, pred: impl Fn(&Op) -> bool) -> bool {
 
 /// The whole module; `lib` leaves out the interface and marcher.
 pub fn emit(p: &Program, lib: bool) -> String {
-    let funcs: Vec<&Func> = [&p.distance, &p.material].into_iter().chain(&p.groups).collect();
+    let funcs: Vec<&Func> = [&p.distance, &p.material]
+        .into_iter()
+        .chain(&p.groups)
+        .collect();
     let uses_time = funcs.iter().any(|f| uses(f, |o| *o == Op::Time));
     let uses_params = funcs.iter().any(|f| uses(f, |o| matches!(o, Op::Param(_))));
     let n_params = p.scene.params.len();
@@ -96,9 +99,17 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += &emit_func(g, &p.groups, doc);
     }
     s += "\n";
-    s += &emit_func(&p.distance, &p.groups, "The signed distance from p to the scene (the march loop calls only this).");
+    s += &emit_func(
+        &p.distance,
+        &p.groups,
+        "The signed distance from p to the scene (the march loop calls only this).",
+    );
     s += "\n";
-    s += &emit_func(&p.material, &p.groups, "The material at a surface point p (called once per hit, never while marching).");
+    s += &emit_func(
+        &p.material,
+        &p.groups,
+        "The material at a surface point p (called once per hit, never while marching).",
+    );
     if !lib {
         s += "\n";
         s += &marcher::emit(&p.scene);

@@ -45,9 +45,12 @@ impl<'a> Lowerer<'a> {
                 Some(n) => match names.iter().position(|x| *x == n.name) {
                     Some(k) if out[k].is_some() => {
                         self.error(
-                            Diagnostic::error(n.span, format!("argument `{}` is given twice", n.name))
-                                .with_label("again here")
-                                .with_hint(format!("the signature is `{signature}`")),
+                            Diagnostic::error(
+                                n.span,
+                                format!("argument `{}` is given twice", n.name),
+                            )
+                            .with_label("again here")
+                            .with_hint(format!("the signature is `{signature}`")),
                         );
                         ok = false;
                     }
@@ -59,7 +62,9 @@ impl<'a> Lowerer<'a> {
                         )
                         .with_label("unknown argument name");
                         d = match nearest(&n.name, names.iter().copied()) {
-                            Some(s) => d.with_hint(format!("did you mean `{s}`? the signature is `{signature}`")),
+                            Some(s) => d.with_hint(format!(
+                                "did you mean `{s}`? the signature is `{signature}`"
+                            )),
                             None => d.with_hint(format!("the signature is `{signature}`")),
                         };
                         self.error(d);
@@ -116,7 +121,11 @@ impl<'a> Lowerer<'a> {
             return Err(self.error(
                 Diagnostic::error(
                     span,
-                    format!("`{fname}` needs at least {min} shape{}, found {}", if min == 1 { "" } else { "s" }, positional.len()),
+                    format!(
+                        "`{fname}` needs at least {min} shape{}, found {}",
+                        if min == 1 { "" } else { "s" },
+                        positional.len()
+                    ),
                 )
                 .with_label("too few arguments")
                 .with_hint(format!("the signature is `{signature}`")),
@@ -128,8 +137,11 @@ impl<'a> Lowerer<'a> {
             match names.iter().position(|x| *x == n.name) {
                 Some(k) => out[k] = Some(&a.value),
                 None => {
-                    let mut d = Diagnostic::error(n.span, format!("`{fname}` has no parameter `{}`", n.name))
-                        .with_label("unknown argument name");
+                    let mut d = Diagnostic::error(
+                        n.span,
+                        format!("`{fname}` has no parameter `{}`", n.name),
+                    )
+                    .with_label("unknown argument name");
                     if let Some(s) = nearest(&n.name, names.iter().copied()) {
                         d = d.with_hint(format!("did you mean `{s}`?"));
                     }

@@ -11,17 +11,58 @@ use std::rc::Rc;
 
 /// Shapes and operations this version implements.
 pub const SHAPE_FUNCTIONS: &[&str] = &[
-    "sphere", "box", "round_box", "plane", "torus", "cylinder", "capsule", "sdf", "union",
-    "intersect", "subtract", "xor", "translate", "rotate", "rotate_x", "rotate_y", "rotate_z",
-    "scale", "mirror_x", "mirror_y", "mirror_z", "repeat", "elongate", "round", "onion",
-    "material", "color", "displace",
+    "sphere",
+    "box",
+    "round_box",
+    "plane",
+    "torus",
+    "cylinder",
+    "capsule",
+    "sdf",
+    "union",
+    "intersect",
+    "subtract",
+    "xor",
+    "translate",
+    "rotate",
+    "rotate_x",
+    "rotate_y",
+    "rotate_z",
+    "scale",
+    "mirror_x",
+    "mirror_y",
+    "mirror_z",
+    "repeat",
+    "elongate",
+    "round",
+    "onion",
+    "material",
+    "color",
+    "displace",
 ];
 
 /// Part of the language (spec sections 3-5) but not built in this version yet.
 pub const NOT_YET: &[&str] = &[
-    "capped_torus", "infinite_cylinder", "cone", "capped_cone", "ellipsoid", "octahedron",
-    "hex_prism", "tri_prism", "pyramid", "heightfield", "mandelbulb", "menger", "sierpinski",
-    "stretch", "shear", "twist", "bend", "warp", "noise", "fbm",
+    "capped_torus",
+    "infinite_cylinder",
+    "cone",
+    "capped_cone",
+    "ellipsoid",
+    "octahedron",
+    "hex_prism",
+    "tri_prism",
+    "pyramid",
+    "heightfield",
+    "mandelbulb",
+    "menger",
+    "sierpinski",
+    "stretch",
+    "shear",
+    "twist",
+    "bend",
+    "warp",
+    "noise",
+    "fbm",
 ];
 
 /// The math built-ins users may call (`round` is the shape operation, not WGSL's).
@@ -76,6 +117,9 @@ impl<'a> Lowerer<'a> {
                 .with_hint("see the README's list of supported shapes and operations"),
             ));
         }
+        if let Some(d) = self.defined_later(name, callee.span, "the function") {
+            return Err(self.error(d));
+        }
         let mut known = all_function_names();
         known.extend(self.visible_names(scope));
         let mut d = Diagnostic::error(callee.span, format!("unknown function `{name}`"))
@@ -110,8 +154,11 @@ impl<'a> Lowerer<'a> {
                 Ok(other) => {
                     let d = self.describe(&other);
                     self.error(
-                        Diagnostic::error(a.value.span, format!("`{fname}` takes numbers or vectors, found {d}"))
-                            .with_label("this argument"),
+                        Diagnostic::error(
+                            a.value.span,
+                            format!("`{fname}` takes numbers or vectors, found {d}"),
+                        )
+                        .with_label("this argument"),
                     );
                     failed = true;
                 }
@@ -138,7 +185,12 @@ impl<'a> Lowerer<'a> {
             return Err(self.error(
                 Diagnostic::error(
                     span,
-                    format!("`{name}` takes {} argument{}, found {}", b.arity(), if b.arity() == 1 { "" } else { "s" }, vals.len()),
+                    format!(
+                        "`{name}` takes {} argument{}, found {}",
+                        b.arity(),
+                        if b.arity() == 1 { "" } else { "s" },
+                        vals.len()
+                    ),
                 )
                 .with_label("wrong number of arguments")
                 .with_hint(format!("the signature is `{}`", math_signature(b))),
@@ -146,7 +198,14 @@ impl<'a> Lowerer<'a> {
         }
         let mut ids: Vec<_> = vals.iter().map(|(n, _)| *n).collect();
         // Component-wise built-ins accept a number where a vector is expected (broadcast).
-        if !matches!(b, Builtin::Dot | Builtin::Distance | Builtin::Cross | Builtin::Length | Builtin::Normalize) {
+        if !matches!(
+            b,
+            Builtin::Dot
+                | Builtin::Distance
+                | Builtin::Cross
+                | Builtin::Length
+                | Builtin::Normalize
+        ) {
             if let Some(vt) = ids.iter().map(|n| self.g.ty(*n)).find(|t| *t != Ty::F32) {
                 for n in ids.iter_mut() {
                     *n = self.g.splat(*n, vt);
@@ -155,7 +214,11 @@ impl<'a> Lowerer<'a> {
         }
         let tys: Vec<Ty> = ids.iter().map(|n| self.g.ty(*n)).collect();
         if crate::graph::infer(Op::Builtin(b), &tys).is_none() {
-            let found = tys.iter().map(|t| t.user_name()).collect::<Vec<_>>().join(", ");
+            let found = tys
+                .iter()
+                .map(|t| t.user_name())
+                .collect::<Vec<_>>()
+                .join(", ");
             return Err(self.error(
                 Diagnostic::error(callee.span, format!("`{name}` cannot take ({found})"))
                     .with_label("argument types do not fit")
@@ -185,9 +248,15 @@ impl<'a> Lowerer<'a> {
         let (mut a, mut b, c) = (v[0].0, v[1].0, v[2]);
         if self.g.ty(c.0) != Ty::Bool {
             return Err(self.error(
-                Diagnostic::error(c.1, format!("the condition of `select` must be a comparison, found {}", self.g.ty(c.0).user_name()))
-                    .with_label("not a boolean")
-                    .with_hint("write a comparison such as `p.y > 0`"),
+                Diagnostic::error(
+                    c.1,
+                    format!(
+                        "the condition of `select` must be a comparison, found {}",
+                        self.g.ty(c.0).user_name()
+                    ),
+                )
+                .with_label("not a boolean")
+                .with_hint("write a comparison such as `p.y > 0`"),
             ));
         }
         let (ta, tb) = (self.g.ty(a), self.g.ty(b));
@@ -200,8 +269,15 @@ impl<'a> Lowerer<'a> {
         }
         if self.g.ty(a) != self.g.ty(b) || self.g.ty(a) == Ty::Bool {
             return Err(self.error(
-                Diagnostic::error(span, format!("`select` needs two values of one type, found {} and {}", ta.user_name(), tb.user_name()))
-                    .with_label("mismatched types"),
+                Diagnostic::error(
+                    span,
+                    format!(
+                        "`select` needs two values of one type, found {} and {}",
+                        ta.user_name(),
+                        tb.user_name()
+                    ),
+                )
+                .with_label("mismatched types"),
             ));
         }
         Ok(Val::Num(self.g.add(Op::Select, &[a, b, c.0], span)))

@@ -48,7 +48,9 @@ impl<'a> Lowerer<'a> {
                             format!("cannot negate {}", self.describe(&other)),
                         )
                         .with_label("unary `-` needs a number or a vector")
-                        .with_hint("to cut a shape out of another, write `a - b` or `subtract(a, b)`"),
+                        .with_hint(
+                            "to cut a shape out of another, write `a - b` or `subtract(a, b)`",
+                        ),
                     )),
                 }
             }
@@ -69,7 +71,10 @@ impl<'a> Lowerer<'a> {
             return Err(self.error(
                 Diagnostic::error(
                     span,
-                    format!("a vector has 2 or 3 components, this one has {}", items.len()),
+                    format!(
+                        "a vector has 2 or 3 components, this one has {}",
+                        items.len()
+                    ),
                 )
                 .with_label("vector literal")
                 .with_hint("write `[x, y]` or `[x, y, z]`"),
@@ -105,6 +110,9 @@ impl<'a> Lowerer<'a> {
             "tau" => return Ok(Val::Num(self.g.f32(std::f32::consts::TAU))),
             _ => {}
         }
+        if let Some(d) = self.defined_later(&id.name, id.span, "the name") {
+            return Err(self.error(d));
+        }
         let mut known = self.visible_names(scope);
         known.extend(PREDEFINED);
         let mut d = Diagnostic::error(id.span, format!("unknown name `{}`", id.name))
@@ -112,14 +120,19 @@ impl<'a> Lowerer<'a> {
         if let Some(s) = nearest(&id.name, known.iter().copied()) {
             d = d.with_hint(format!("did you mean `{s}`?"));
         } else if super::builtins::is_builtin_function(&id.name) {
-            d = d.with_hint(format!("`{}` is a function: call it, `{}(...)`", id.name, id.name));
+            d = d.with_hint(format!(
+                "`{}` is a function: call it, `{}(...)`",
+                id.name, id.name
+            ));
         } else if self.materials.iter().any(|m| m.name == id.name) {
             d = d.with_hint(format!(
                 "`{}` is a material; use it as `shape.material({})`",
                 id.name, id.name
             ));
         } else {
-            d = d.with_hint("names must be defined (with `let`, `param` or `fn`) above their first use");
+            d = d.with_hint(
+                "names must be defined (with `let`, `param` or `fn`) above their first use",
+            );
         }
         Err(self.error(d))
     }
@@ -212,7 +225,11 @@ impl<'a> Lowerer<'a> {
         operands.reverse();
         let mut children = Vec::new();
         let mut failed = false;
-        let what = if op == BinaryOp::Or { "`|` (union)" } else { "`&` (intersection)" };
+        let what = if op == BinaryOp::Or {
+            "`|` (union)"
+        } else {
+            "`&` (intersection)"
+        };
         for o in operands {
             match self.expr(o, scope) {
                 Ok(Val::Shape(s)) => children.push(s),
@@ -283,12 +300,23 @@ impl<'a> Lowerer<'a> {
         if idx.is_empty() || idx.len() > 3 {
             let comps = if width == 2 { "x and y" } else { "x, y and z" };
             return Err(self.error(
-                Diagnostic::error(letters.span, format!("`.{}` is not a swizzle of {}", letters.name, self.g.ty(n).user_name()))
-                    .with_label("unknown component")
-                    .with_hint(format!("use 1 to 3 of the letters {comps}, such as `.xz`")),
+                Diagnostic::error(
+                    letters.span,
+                    format!(
+                        "`.{}` is not a swizzle of {}",
+                        letters.name,
+                        self.g.ty(n).user_name()
+                    ),
+                )
+                .with_label("unknown component")
+                .with_hint(format!("use 1 to 3 of the letters {comps}, such as `.xz`")),
             ));
         }
-        Ok(Val::Num(self.g.add(Op::Swizzle(Swizzle::new(&idx)), &[n], span)))
+        Ok(Val::Num(self.g.add(
+            Op::Swizzle(Swizzle::new(&idx)),
+            &[n],
+            span,
+        )))
     }
 
     /// A call: a user `fn` (inlined) or a built-in.
@@ -306,8 +334,11 @@ impl<'a> Lowerer<'a> {
             Some(other) => {
                 let d = self.describe(&other);
                 return Err(self.error(
-                    Diagnostic::error(callee.span, format!("`{}` is {d}, not a function", callee.name))
-                        .with_label("called here"),
+                    Diagnostic::error(
+                        callee.span,
+                        format!("`{}` is {d}, not a function", callee.name),
+                    )
+                    .with_label("called here"),
                 ));
             }
             None => {}
@@ -331,7 +362,11 @@ impl<'a> Lowerer<'a> {
             ));
         }
         let names: Vec<&str> = def.params.iter().map(|p| p.name.name.as_str()).collect();
-        let required = def.params.iter().take_while(|p| p.default.is_none()).count();
+        let required = def
+            .params
+            .iter()
+            .take_while(|p| p.default.is_none())
+            .count();
         let signature = format!("{}({})", def.name.name, names.join(", "));
         let bound = self.bind_args(&def.name.name, &signature, &names, required, args, span)?;
         // Arguments are evaluated in the caller's scope, defaults in the fn's own scope
@@ -386,15 +421,20 @@ impl<'a> Lowerer<'a> {
             Val::Poison => Err(Reported),
             other => {
                 let d = self.describe(&other);
+                let is_bool = matches!(other, Val::Num(n) if self.g.ty(n) == Ty::Bool);
                 let hint = match (&other, op) {
+                    _ if is_bool => "a comparison gives a boolean, which only `select(a, b, cond)` takes",
                     (Val::Shape(_), BinaryOp::Add) => "to join shapes write `a | b` or `union(a, b)`",
                     (Val::Shape(_), _) => "shapes combine with `|`, `&` and `-`; transform them with `.scale(f)`, `.translate(v)`",
                     _ => "arithmetic takes numbers and vectors",
                 };
                 Err(self.error(
-                    Diagnostic::error(span, format!("`{}` needs a number or vector here, found {d}", op.symbol()))
-                        .with_label("operand")
-                        .with_hint(hint),
+                    Diagnostic::error(
+                        span,
+                        format!("`{}` needs a number or vector here, found {d}", op.symbol()),
+                    )
+                    .with_label("operand")
+                    .with_hint(hint),
                 ))
             }
         }
@@ -423,7 +463,9 @@ impl<'a> Lowerer<'a> {
                 Err(self.error(
                     Diagnostic::error(span, format!("{what} must be a shape, found {d}"))
                         .with_label("expected a shape")
-                        .with_hint("shapes come from calls such as `sphere(1)` or `box([1, 2, 1])`"),
+                        .with_hint(
+                            "shapes come from calls such as `sphere(1)` or `box([1, 2, 1])`",
+                        ),
                 ))
             }
         }
@@ -459,8 +501,11 @@ impl<'a> Lowerer<'a> {
             other => {
                 let d = self.describe(&other);
                 return Err(self.error(
-                    Diagnostic::error(e.span, format!("{what} must be a constant value, found {d}"))
-                        .with_label("expected a number or vector"),
+                    Diagnostic::error(
+                        e.span,
+                        format!("{what} must be a constant value, found {d}"),
+                    )
+                    .with_label("expected a number or vector"),
                 ));
             }
         };

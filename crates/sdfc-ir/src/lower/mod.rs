@@ -61,6 +61,9 @@ pub(crate) struct Lowerer<'a> {
     next_lambda: u32,
     const_memo: FxHashMap<NodeId, Option<Value<f32>>>,
     too_big: bool,
+    /// Where each `let`, `fn`, `param` and `material` of the file is defined, to explain a
+    /// use above its definition.
+    pub definitions: FxHashMap<&'a str, Span>,
 }
 
 impl<'a> Lowerer<'a> {
@@ -82,6 +85,7 @@ impl<'a> Lowerer<'a> {
             next_lambda: 0,
             const_memo: FxHashMap::default(),
             too_big: false,
+            definitions: FxHashMap::default(),
         }
     }
 
@@ -150,7 +154,10 @@ impl<'a> Lowerer<'a> {
             self.error(
                 Diagnostic::error(
                     name.span,
-                    format!("`{}` is a built-in function and cannot be redefined", name.name),
+                    format!(
+                        "`{}` is a built-in function and cannot be redefined",
+                        name.name
+                    ),
                 )
                 .with_label("built-in name")
                 .with_hint(format!("call it `my_{}` or another unused name", name.name)),
@@ -162,7 +169,34 @@ impl<'a> Lowerer<'a> {
         self.globals.push((name.name.as_str(), val, name.span));
     }
 
+    /// A diagnostic for a name used before (above) its definition, if that is the mistake.
+    pub fn defined_later(&self, name: &str, used: Span, what: &str) -> Option<Diagnostic> {
+        let def = *self.definitions.get(name)?;
+        (def.start > used.start).then(|| {
+            Diagnostic::error(
+                used,
+                format!("{what} `{name}` is used before it is defined"),
+            )
+            .with_label("used here")
+            .with_secondary(def, "defined later here")
+            .with_hint("names must be defined above their first use: move the definition up")
+        })
+    }
+
     fn items(&mut self, file: &'a File, source_len: usize) {
+        for item in &file.items {
+            match &item.kind {
+                ItemKind::Let { name, .. }
+                | ItemKind::Fn { name, .. }
+                | ItemKind::Param { name, .. }
+                | ItemKind::Material { name, .. } => {
+                    self.definitions
+                        .entry(name.name.as_str())
+                        .or_insert(name.span);
+                }
+                _ => {}
+            }
+        }
         for item in &file.items {
             if self.too_big {
                 return;
@@ -170,7 +204,23 @@ impl<'a> Lowerer<'a> {
             match &item.kind {
                 ItemKind::Let { name, value } => {
                     let scope = self.global_scope();
-                    let v = self.expr(value, &scope).unwrap_or(Val::Poison);
+                    let mut v = self.expr(value, &scope).unwrap_or(Val::Poison);
+                    // `let big = 1e30 * 1e30;` is wrong where it is written, not where used.
+                    if let Val::Num(n) = v {
+                        if self.const_of(n).is_some_and(|c| !c.all_finite()) {
+                            self.error(
+                                Diagnostic::error(
+                                    value.span,
+                                    "a constant expression is not finite",
+                                )
+                                .with_label("evaluates to infinity or NaN")
+                                .with_hint(
+                                    "check for a division by zero or an overflow past 3.4e38",
+                                ),
+                            );
+                            v = Val::Poison;
+                        }
+                    }
                     self.define(name, v);
                 }
                 ItemKind::Fn { name, params, body } => {
@@ -256,8 +306,11 @@ impl<'a> Lowerer<'a> {
             if let Some(prev) = params[..i].iter().find(|q| q.name.name == p.name.name) {
                 let prev = prev.name.span;
                 self.error(
-                    Diagnostic::error(p.name.span, format!("parameter `{}` appears twice", p.name.name))
-                        .with_secondary(prev, "first here"),
+                    Diagnostic::error(
+                        p.name.span,
+                        format!("parameter `{}` appears twice", p.name.name),
+                    )
+                    .with_secondary(prev, "first here"),
                 );
             }
             if p.default.is_some() {
@@ -266,7 +319,10 @@ impl<'a> Lowerer<'a> {
                 self.error(
                     Diagnostic::error(
                         p.name.span,
-                        format!("parameter `{}` has no default but follows one that has", p.name.name),
+                        format!(
+                            "parameter `{}` has no default but follows one that has",
+                            p.name.name
+                        ),
                     )
                     .with_hint("put parameters with defaults last"),
                 );
@@ -281,8 +337,14 @@ impl<'a> Lowerer<'a> {
         };
         if !matches!(v.ty(), Ty::F32 | Ty::Vec2 | Ty::Vec3) {
             self.error(
-                Diagnostic::error(default.span, format!("a param must be a number, vec2 or vec3, found {}", v.ty().user_name()))
-                    .with_label("this default"),
+                Diagnostic::error(
+                    default.span,
+                    format!(
+                        "a param must be a number, vec2 or vec3, found {}",
+                        v.ty().user_name()
+                    ),
+                )
+                .with_label("this default"),
             );
             return Val::Poison;
         }

@@ -28,12 +28,23 @@ pub fn run(f: &Func) -> (Func, Vec<(Span, String)>) {
         }
         copy(out, &f.graph, id, node, args)
     });
-    (Func { name: f.name.clone(), kind: f.kind, graph, results }, errors)
+    (
+        Func {
+            name: f.name.clone(),
+            kind: f.kind,
+            graph,
+            results,
+        },
+        errors,
+    )
 }
 
 /// The folded value of `op` on `args` if every argument is a constant and `op` is pure.
 pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Option<Value<f32>> {
-    if matches!(op, Op::Const(_) | Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. }) {
+    if matches!(
+        op,
+        Op::Const(_) | Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. }
+    ) {
         return None;
     }
     let vals: Option<Vec<Value<f32>>> = args.iter().map(|a| g.as_const(*a)).collect();
@@ -42,8 +53,8 @@ pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Opt
 
 /// Adds a node, folding it at once when its arguments are constants (used by passes that
 /// build new arithmetic, such as transform merging).
-pub fn add_folded(g: &mut Graph, op: Op, args: &[NodeId]) -> NodeId {
-    let n = g.op(op, args);
+pub fn add_folded(g: &mut Graph, op: Op, args: &[NodeId], span: Span) -> NodeId {
+    let n = g.add(op, args, span);
     let node = *g.node(n);
     match fold_one(g, node.op, node.ty, node.args()) {
         Some(v) if v.all_finite() => g.konst(v),
@@ -52,7 +63,11 @@ pub fn add_folded(g: &mut Graph, op: Op, args: &[NodeId]) -> NodeId {
 }
 
 /// The value of a node that depends on constants only, memoised.
-pub fn const_value(g: &Graph, id: NodeId, memo: &mut FxHashMap<NodeId, Option<Value<f32>>>) -> Option<Value<f32>> {
+pub fn const_value(
+    g: &Graph,
+    id: NodeId,
+    memo: &mut FxHashMap<NodeId, Option<Value<f32>>>,
+) -> Option<Value<f32>> {
     if let Some(v) = memo.get(&id) {
         return *v;
     }

@@ -65,48 +65,88 @@ impl Merger<'_> {
         }
         let node = self.old.shape(id).clone();
         let out = match node.kind {
-            ShapeKind::Map { map: PointMap::Affine { m, o, s }, child } => {
+            ShapeKind::Map {
+                map: PointMap::Affine { m, o, s },
+                child,
+            } => {
                 let mut aff: Affine = (m, o, s);
                 let mut inner = child;
                 // Fold the chain below into this one map (inner maps apply after outer ones).
-                while let ShapeKind::Map { map: PointMap::Affine { m, o, s }, child } = &self.old.shape(inner).kind {
-                    aff = self.compose((*m, *o, *s), aff);
+                while let ShapeKind::Map {
+                    map: PointMap::Affine { m, o, s },
+                    child,
+                } = &self.old.shape(inner).kind
+                {
+                    aff = self.compose((*m, *o, *s), aff, node.span);
                     inner = *child;
                 }
                 let aff = self.drop_identities(aff);
                 let child = self.shape(inner);
                 match aff {
                     (None, None, None) => child,
-                    (m, o, s) => self.push(ShapeKind::Map { map: PointMap::Affine { m, o, s }, child }, node.span),
+                    (m, o, s) => self.push(
+                        ShapeKind::Map {
+                            map: PointMap::Affine { m, o, s },
+                            child,
+                        },
+                        node.span,
+                    ),
                 }
             }
-            ShapeKind::Combine { op, smooth, children } => {
+            ShapeKind::Combine {
+                op,
+                smooth,
+                children,
+            } => {
                 let smooth = smooth.filter(|k| !self.is_const(Some(*k), |v| *v == Value::F(0.0)));
                 let mut kids = Vec::new();
                 for c in children {
                     let c = self.shape(c);
                     // union(union(a, b), c) is union(a, b, c) when neither is smooth.
-                    let flatten = smooth.is_none() && matches!(op, CombineOp::Union | CombineOp::Intersect);
+                    let flatten =
+                        smooth.is_none() && matches!(op, CombineOp::Union | CombineOp::Intersect);
                     match &self.shapes[c.index()].kind {
-                        ShapeKind::Combine { op: o2, smooth: None, children: inner } if flatten && *o2 == op => {
-                            kids.extend(inner.iter().copied())
-                        }
+                        ShapeKind::Combine {
+                            op: o2,
+                            smooth: None,
+                            children: inner,
+                        } if flatten && *o2 == op => kids.extend(inner.iter().copied()),
                         _ => kids.push(c),
                     }
                 }
                 if kids.len() == 1 && matches!(op, CombineOp::Union | CombineOp::Intersect) {
                     kids[0]
                 } else {
-                    self.push(ShapeKind::Combine { op, smooth, children: kids }, node.span)
+                    self.push(
+                        ShapeKind::Combine {
+                            op,
+                            smooth,
+                            children: kids,
+                        },
+                        node.span,
+                    )
                 }
             }
             ShapeKind::Map { map, child } => {
                 let child = self.shape(child);
                 self.push(ShapeKind::Map { map, child }, node.span)
             }
-            ShapeKind::Displace { child, body, lambda, lipschitz } => {
+            ShapeKind::Displace {
+                child,
+                body,
+                lambda,
+                lipschitz,
+            } => {
                 let child = self.shape(child);
-                self.push(ShapeKind::Displace { child, body, lambda, lipschitz }, node.span)
+                self.push(
+                    ShapeKind::Displace {
+                        child,
+                        body,
+                        lambda,
+                        lipschitz,
+                    },
+                    node.span,
+                )
             }
             ShapeKind::Modify { modifier, child } => {
                 let child = self.shape(child);
@@ -124,27 +164,27 @@ impl Merger<'_> {
 
     /// The map that applies `outer` first, then `inner`:
     /// `(m1 ((m2 p + o2) / s2) + o1) / s1 = (m1 m2 p + m1 o2 + s2 o1) / (s1 s2)`.
-    fn compose(&mut self, inner: Affine, outer: Affine) -> Affine {
+    fn compose(&mut self, inner: Affine, outer: Affine, span: sdfc_syntax::span::Span) -> Affine {
         let (m1, o1, s1) = inner;
         let (m2, o2, s2) = outer;
         let m = match (m1, m2) {
-            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::MatMul, &[a, b])),
+            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::MatMul, &[a, b], span)),
             (a, b) => a.or(b),
         };
         let o2m = match (m1, o2) {
-            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::MatMul, &[a, b])),
+            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::MatMul, &[a, b], span)),
             (_, b) => b,
         };
         let o1s = match (s2, o1) {
-            (Some(s), Some(o)) => Some(add_folded(&mut self.g, Op::Mul, &[o, s])),
+            (Some(s), Some(o)) => Some(add_folded(&mut self.g, Op::Mul, &[o, s], span)),
             (_, o) => o,
         };
         let o = match (o2m, o1s) {
-            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::Add, &[a, b])),
+            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::Add, &[a, b], span)),
             (a, b) => a.or(b),
         };
         let s = match (s1, s2) {
-            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::Mul, &[a, b])),
+            (Some(a), Some(b)) => Some(add_folded(&mut self.g, Op::Mul, &[a, b], span)),
             (a, b) => a.or(b),
         };
         (m, o, s)

@@ -61,7 +61,9 @@ pub fn rebuild(
 /// Re-adds a node unchanged (inputs keep their declared type).
 pub fn copy(out: &mut Graph, old: &Graph, id: NodeId, node: &Node, args: &[NodeId]) -> NodeId {
     match node.op {
-        Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => out.add_typed(node.op, args, node.ty, old.span(id)),
+        Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => {
+            out.add_typed(node.op, args, node.ty, old.span(id))
+        }
         op => out.add(op, args, old.span(id)),
     }
 }
@@ -91,6 +93,11 @@ pub fn optimise(f: &Func) -> (Func, Vec<(sdfc_syntax::span::Span, String)>) {
         }
         copy(out, &f.graph, id, node, args)
     });
-    let folded = Func { name: f.name.clone(), kind: f.kind, graph, results };
+    let folded = Func {
+        name: f.name.clone(),
+        kind: f.kind,
+        graph,
+        results,
+    };
     (dce::run(&folded), errors)
 }

@@ -14,7 +14,12 @@ pub fn run(f: &Func) -> Func {
     let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
         simplify(out, node.op, args).unwrap_or_else(|| copy(out, &f.graph, id, node, args))
     });
-    Func { name: f.name.clone(), kind: f.kind, graph, results }
+    Func {
+        name: f.name.clone(),
+        kind: f.kind,
+        graph,
+        results,
+    }
 }
 
 /// Whether every component of constant `n` equals `x`.
@@ -36,9 +41,27 @@ pub fn simplify(g: &mut Graph, op: Op, a: &[NodeId]) -> Option<NodeId> {
         Op::Add if is_splat(g, a[1], 0.0) && g.ty(a[0]).width() >= g.ty(a[1]).width() => Some(a[0]),
         Op::Add if is_splat(g, a[0], 0.0) && g.ty(a[1]).width() >= g.ty(a[0]).width() => Some(a[1]),
         Op::Sub if is_splat(g, a[1], 0.0) && g.ty(a[0]).width() >= g.ty(a[1]).width() => Some(a[0]),
-        Op::Mul if is_splat(g, a[1], 1.0) && g.ty(a[0]).width() >= g.ty(a[1]).width() && g.ty(a[0]) != Ty::Mat3 => Some(a[0]),
-        Op::Mul if is_splat(g, a[0], 1.0) && g.ty(a[1]).width() >= g.ty(a[0]).width() && g.ty(a[0]) != Ty::Mat3 => Some(a[1]),
-        Op::Mul if is_splat(g, a[1], -1.0) && g.ty(a[0]).width() >= g.ty(a[1]).width() && g.ty(a[0]) != Ty::Mat3 => Some(g.op(Op::Neg, &[a[0]])),
+        Op::Mul
+            if is_splat(g, a[1], 1.0)
+                && g.ty(a[0]).width() >= g.ty(a[1]).width()
+                && g.ty(a[0]) != Ty::Mat3 =>
+        {
+            Some(a[0])
+        }
+        Op::Mul
+            if is_splat(g, a[0], 1.0)
+                && g.ty(a[1]).width() >= g.ty(a[0]).width()
+                && g.ty(a[0]) != Ty::Mat3 =>
+        {
+            Some(a[1])
+        }
+        Op::Mul
+            if is_splat(g, a[1], -1.0)
+                && g.ty(a[0]).width() >= g.ty(a[1]).width()
+                && g.ty(a[0]) != Ty::Mat3 =>
+        {
+            Some(g.op(Op::Neg, &[a[0]]))
+        }
         Op::Div if is_splat(g, a[1], 1.0) && g.ty(a[0]).width() >= g.ty(a[1]).width() => Some(a[0]),
         Op::Neg if g.node(a[0]).op == Op::Neg => Some(g.node(a[0]).args()[0]),
         // x + (-y) == x - y and x - (-y) == x + y exactly in IEEE arithmetic.
@@ -85,7 +108,13 @@ pub fn simplify(g: &mut Graph, op: Op, a: &[NodeId]) -> Option<NodeId> {
 fn simplify_swizzle(g: &mut Graph, s: Swizzle, x: NodeId) -> Option<NodeId> {
     let ty = g.ty(x);
     // v.xyz of a vec3 (and v.xy of a vec2) is v.
-    if ty != Ty::F32 && s.len as usize == ty.width() && s.indices().iter().enumerate().all(|(i, &k)| i == k as usize) {
+    if ty != Ty::F32
+        && s.len as usize == ty.width()
+        && s.indices()
+            .iter()
+            .enumerate()
+            .all(|(i, &k)| i == k as usize)
+    {
         return Some(x);
     }
     let node = *g.node(x);
@@ -94,9 +123,15 @@ fn simplify_swizzle(g: &mut Graph, s: Swizzle, x: NodeId) -> Option<NodeId> {
         Op::MakeVec if s.len == 1 => Some(node.args()[s.indices()[0] as usize]),
         // (v.zyx).x is v.z
         Op::Swizzle(inner) if g.ty(node.args()[0]) != Ty::F32 => {
-            let idx: Vec<u8> = s.indices().iter().map(|&i| inner.indices()[i as usize]).collect();
+            let idx: Vec<u8> = s
+                .indices()
+                .iter()
+                .map(|&i| inner.indices()[i as usize])
+                .collect();
             let src = node.args()[0];
-            if idx.len() == g.ty(src).width() && idx.iter().enumerate().all(|(i, &k)| i == k as usize) {
+            if idx.len() == g.ty(src).width()
+                && idx.iter().enumerate().all(|(i, &k)| i == k as usize)
+            {
                 return Some(src);
             }
             Some(g.op(Op::Swizzle(Swizzle::new(&idx)), &[src]))

@@ -37,20 +37,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// The colour a ray brings back: the shaded surface it hit, or the background.
-fn radiance(ro: vec3<f32>, rd: vec3<f32>, hit: Hit, pixel: f32) -> vec3<f32> {
-    if !hit.hit {
-        return BACKGROUND;
-    }
-    let p = ro + rd * hit.t;
-    let n = scene_normal(p, normal_step(p, hit.t, pixel));
-    let material = scene_material(p);
-    return finish(shade(p, n, rd, material), hit.t);
-}
-
 // The finite-difference step for normals: about the surface threshold, and never below what
 // f32 can resolve at this distance from the origin.
 fn normal_step(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
     let scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
     return max(0.5 * surface_epsilon(t, pixel), 4e-6 * scale);
+}
+
+// How far a secondary ray (shadow, reflection) starts off the surface: beyond the surface
+// threshold, and beyond what f32 can resolve at this distance from the origin.
+fn ray_offset(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
+    let scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
+    return max(4.0 * surface_epsilon(t, pixel), 2e-5 * scale);
 }

@@ -1,7 +1,7 @@
 //! Golden tests over the scene corpus in `tests/scenes/`: for every scene, snapshots of the
 //! lowered IR, the optimised IR and the emitted WGSL, plus checks that hold for every scene
-//! (the WGSL validates, in full and library form; compiling is deterministic; warnings only
-//! where expected).
+//! (the WGSL validates, in full and library form; compiling is deterministic; no scene of the
+//! corpus draws a warning).
 //!
 //! Snapshots live in `tests/tests/snapshots/golden__<scene>.<stage>.snap`. After an intended
 //! change, read the diffs, then accept them with `INSTA_UPDATE=always cargo test -p sdfc-tests`.
@@ -9,10 +9,6 @@
 use sdfc_syntax::diag::{self, Diagnostic};
 use sdfc_wgsl::{Compiled, Failure, Options};
 use std::path::{Path, PathBuf};
-
-/// Scenes that use settings this version accepts with a "not rendered yet" warning
-/// (shadows, ao, reflections). Every other scene must compile without any diagnostic.
-const SCENES_WITH_WARNINGS: &[&str] = &["lights_camera_fov", "render_shading", "spec_section10"];
 
 struct Scene {
     stem: String,
@@ -300,47 +296,15 @@ fn rendered(scene: &Scene, diags: &[Diagnostic]) -> String {
 }
 
 #[test]
-fn warnings_only_where_expected() {
-    let stems: Vec<String> = scenes().into_iter().map(|s| s.stem).collect();
-    for expected in SCENES_WITH_WARNINGS {
-        assert!(
-            stems.iter().any(|s| s == expected),
-            "SCENES_WITH_WARNINGS names `{expected}`, which is not in tests/scenes"
-        );
-    }
+fn no_scene_draws_a_warning() {
     for scene in scenes() {
         let c = compile(&scene.stem, &scene.source, &Options::default());
         assert!(
-            c.warnings.iter().all(|d| !d.is_error()),
-            "{}: an error among the warnings of a compiled scene",
-            scene.stem
+            c.warnings.is_empty(),
+            "{}: unexpected diagnostics:\n{}",
+            scene.stem,
+            rendered(&scene, &c.warnings)
         );
-        if SCENES_WITH_WARNINGS.contains(&scene.stem.as_str()) {
-            assert!(
-                !c.warnings.is_empty(),
-                "{}: expected a \"not rendered yet\" warning",
-                scene.stem
-            );
-            for w in &c.warnings {
-                assert!(
-                    w.message.contains("not rendered by this version"),
-                    "{}: unexpected warning:\n{}",
-                    scene.stem,
-                    rendered(&scene, std::slice::from_ref(w))
-                );
-            }
-            let text = rendered(&scene, &c.warnings);
-            settings_for(&scene).bind(|| {
-                insta::assert_snapshot!(format!("{}.warnings", scene.stem), text);
-            });
-        } else {
-            assert!(
-                c.warnings.is_empty(),
-                "{}: unexpected diagnostics:\n{}",
-                scene.stem,
-                rendered(&scene, &c.warnings)
-            );
-        }
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::literal::{float, vec3};
 use crate::parts;
-use sdfc_ir::scene::{Epsilon, LightKind, Normals, Scene};
+use sdfc_ir::scene::{Epsilon, LightKind, Normals, Scene, Shadows};
 use std::fmt::Write;
 
 pub fn emit(scene: &Scene) -> String {
@@ -32,9 +32,20 @@ pub fn emit(scene: &Scene) -> String {
         Normals::Tetrahedron | Normals::Analytic => parts::NORMALS_TETRAHEDRON,
     };
     s += "\n";
+    match scene.render.shadows {
+        Shadows::None => {}
+        Shadows::Hard => s += &format!("{}\n", parts::SHADOW_HARD),
+        Shadows::Soft(_) => s += &format!("{}\n", parts::SHADOW_SOFT),
+    }
+    if scene.render.ao.is_some() {
+        s += parts::AMBIENT_OCCLUSION;
+        s += "\n";
+    }
     s += &shade(scene);
     s += "\n";
     s += &finish(scene);
+    s += "\n";
+    s += if scene.render.reflections > 0 { parts::RADIANCE_REFLECTIONS } else { parts::RADIANCE_PLAIN };
     s += "\n";
     s += parts::MAIN;
     s
@@ -93,6 +104,18 @@ fn constants(scene: &Scene) -> String {
         "const INV_GAMMA: f32 = {};",
         float((1.0 / r.gamma as f64) as f32)
     );
+    if let Shadows::Soft(k) = r.shadows {
+        let _ = writeln!(s, "const SHADOW_K: f32 = {};", float(k));
+    }
+    if let Some(ao) = &r.ao {
+        let _ = writeln!(s, "const AO_SAMPLES: u32 = {}u;", ao.samples);
+        let _ = writeln!(s, "const AO_STEP: f32 = {};", float(ao.step));
+        let _ = writeln!(s, "const AO_STRENGTH: f32 = {};", float(ao.strength));
+        let _ = writeln!(s, "const AO_FALLOFF: f32 = {};", float(ao.falloff));
+    }
+    if r.reflections > 0 {
+        let _ = writeln!(s, "const REFLECTIONS: u32 = {}u;", r.reflections);
+    }
     s
 }
 
@@ -110,38 +133,55 @@ fn surface_epsilon(scene: &Scene) -> String {
     }
 }
 
-/// Phong shading (spec section 6) for each light of the scene, unrolled.
+/// Phong shading (spec section 6) for each light of the scene, unrolled; shadows and ambient
+/// occlusion appear only when the settings ask for them. `offset` is how far shadow rays start
+/// off the surface.
 fn shade(scene: &Scene) -> String {
-    let mut s = String::from(
-        "// Phong shading: ambient, then diffuse and specular for each light.\n\
-         fn shade(p: vec3<f32>, n: vec3<f32>, rd: vec3<f32>, m: SceneMaterial) -> vec3<f32> {\n\
-         \x20   let base = m.albedo.rgb;\n\
-         \x20   var c = m.phong.x * base;\n",
-    );
+    let shadows = scene.render.shadows != Shadows::None;
+    let mut s = String::from("// Phong shading: ambient, then diffuse and specular for each light.\n");
+    if shadows {
+        s += "// Each light is attenuated by the shadow its ray to p casts.\n";
+    }
+    if scene.render.ao.is_some() {
+        s += "// Ambient occlusion darkens the ambient term.\n";
+    }
+    s += "fn shade(p: vec3<f32>, n: vec3<f32>, rd: vec3<f32>, m: SceneMaterial, offset: f32) -> vec3<f32> {\n";
+    s += "    let base = m.albedo.rgb;\n";
+    if scene.render.ao.is_some() {
+        s += "    var c = m.phong.x * ambient_occlusion(p, n) * base;\n";
+    } else {
+        s += "    var c = m.phong.x * base;\n";
+    }
+    if shadows {
+        s += "    let origin = p + n * offset;\n";
+    }
     for (i, light) in scene.lights.iter().enumerate() {
         let radiance: Vec<f32> = light.color.iter().map(|c| c * light.intensity).collect();
         let _ = writeln!(s, "    {{");
         match &light.kind {
             LightKind::Directional { direction } => {
-                let to_light = direction.map(|x| -x);
                 let _ = writeln!(s, "        // light {i}: directional");
-                let _ = writeln!(s, "        let l = {};", vec3(to_light));
+                let _ = writeln!(s, "        let l = {};", vec3(direction.map(|x| -x)));
+                if shadows {
+                    let _ = writeln!(s, "        let lit = shadow(origin, l, MAX_DISTANCE);");
+                }
             }
             LightKind::Point { position } => {
                 let _ = writeln!(s, "        // light {i}: point");
-                let _ = writeln!(
-                    s,
-                    "        let l = safe_normalize({} - p);",
-                    vec3(*position)
-                );
+                let _ = writeln!(s, "        let to_light = {} - p;", vec3(*position));
+                let _ = writeln!(s, "        let l = safe_normalize(to_light);");
+                if shadows {
+                    let _ = writeln!(s, "        let lit = shadow(origin, l, length(to_light));");
+                }
             }
         }
         let _ = writeln!(s, "        let diffuse = max(dot(n, l), 0.0);");
         let _ = writeln!(s, "        let r = reflect(-l, n);");
         let _ = writeln!(s, "        let specular = select(0.0, pow(max(dot(r, -rd), 1e-6), m.phong.w), diffuse > 0.0);");
+        let lit = if shadows { "lit * " } else { "" };
         let _ = writeln!(
             s,
-            "        c = c + {} * (m.phong.y * diffuse * base + m.phong.z * specular);",
+            "        c = c + {lit}{} * (m.phong.y * diffuse * base + m.phong.z * specular);",
             vec3([radiance[0], radiance[1], radiance[2]])
         );
         let _ = writeln!(s, "    }}");

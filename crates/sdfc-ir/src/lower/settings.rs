@@ -565,27 +565,6 @@ impl<'a> Lowerer<'a> {
             };
             ok &= res.is_ok();
         }
-        for f in fields {
-            let unrendered = match f.name.name.as_str() {
-                "shadows" => r.shadows != Shadows::None,
-                "ao" => r.ao.is_some(),
-                "reflections" => r.reflections > 0,
-                _ => false,
-            };
-            if unrendered {
-                self.diags.push(
-                    Diagnostic::warning(
-                        f.value.span,
-                        format!(
-                            "`{}` is accepted but not rendered by this version of sdfc yet",
-                            f.name.name
-                        ),
-                    )
-                    .with_label("ignored when rendering")
-                    .with_hint("the renderer's shading features arrive with the wgpu renderer"),
-                );
-            }
-        }
         if ok {
             Ok(r)
         } else {

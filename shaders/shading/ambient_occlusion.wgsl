@@ -1,0 +1,17 @@
+// Ambient occlusion: compares the distance at AO_SAMPLES points along the normal with the
+// distance an open surface would have there; nearer samples weigh more (AO_FALLOFF per
+// step). The sum is normalised by its largest possible value, so `strength: 1` darkens a
+// fully enclosed point to black whatever the step size.
+fn ambient_occlusion(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    var occlusion = 0.0;
+    var most = 0.0;
+    var weight = 1.0;
+    for (var i = 1u; i <= AO_SAMPLES; i = i + 1u) {
+        let h = AO_STEP * f32(i);
+        let d = scene_distance(p + n * h);
+        occlusion = occlusion + weight * clamp(h - d, 0.0, h);
+        most = most + weight * h;
+        weight = weight * AO_FALLOFF;
+    }
+    return clamp(1.0 - AO_STRENGTH * occlusion / most, 0.0, 1.0);
+}

@@ -1,6 +1,9 @@
 //! Ad-hoc profiling entry (not a benchmark): times each compile stage once.
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(5000);
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(5000);
     let src = sdfc_tests::grid_scene(n);
     let t = std::time::Instant::now();
     let file = sdfc_syntax::parse(&src).unwrap();
@@ -16,7 +19,12 @@ fn main() {
     let m = naga::front::wgsl::parse_str(&wgsl).unwrap();
     let t_naga = t.elapsed();
     let t = std::time::Instant::now();
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default()).validate(&m).unwrap();
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&m)
+    .unwrap();
     let t_valid = t.elapsed();
     if std::env::args().nth(2).is_some() {
         std::fs::write("/tmp/probe.wgsl", &wgsl).unwrap();

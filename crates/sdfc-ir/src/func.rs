@@ -19,6 +19,7 @@ pub enum FuncKind {
     Distance,
     /// `scene_material`: albedo and phong.
     Material,
-    /// A group of a material function: distance, albedo and phong.
-    MaterialGroup,
+    /// A group of a large union: distance, albedo and phong. Callers that need only the
+    /// distance (result 0) skip the material part.
+    Group,
 }

@@ -33,7 +33,7 @@ pub struct Functions {
 
 /// Builds `scene_distance` and `scene_material` (and their group functions).
 pub fn functions(scene: &Scene) -> Functions {
-    let mut groups = Vec::new();
+    let mut groups = Groups::default();
     let mut b = Builder::new(scene, false, groups);
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
@@ -57,8 +57,16 @@ pub fn functions(scene: &Scene) -> Functions {
     Functions {
         distance,
         material,
-        groups: b.groups,
+        groups: b.groups.funcs,
     }
+}
+
+/// Group functions built so far, shared by the distance and the material function: one
+/// function per group serves both (its material part is emitted behind a flag).
+#[derive(Default)]
+struct Groups {
+    funcs: Vec<Func>,
+    index: FxHashMap<(Vec<ShapeId>, u32), u32>,
 }
 
 struct Builder<'s> {
@@ -68,11 +76,11 @@ struct Builder<'s> {
     imported: FxHashMap<NodeId, NodeId>,
     memo: FxHashMap<(ShapeId, NodeId, u32), (NodeId, Option<Mat>)>,
     consts: FxHashMap<NodeId, Option<Value<f32>>>,
-    groups: Vec<Func>,
+    groups: Groups,
 }
 
 impl<'s> Builder<'s> {
-    fn new(scene: &'s Scene, materials: bool, groups: Vec<Func>) -> Builder<'s> {
+    fn new(scene: &'s Scene, materials: bool, groups: Groups) -> Builder<'s> {
         Builder {
             scene,
             g: Graph::new(),
@@ -90,27 +98,29 @@ impl<'s> Builder<'s> {
         p
     }
 
-    /// Builds a group function for a union of `children` and returns its call's results.
+    /// The group function for a union of `children` (built once, with its material part),
+    /// and its call's results at `p`.
     fn group(&mut self, children: &[ShapeId], p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
-        let mut sub = Builder::new(self.scene, self.materials, std::mem::take(&mut self.groups));
-        let sp = sub.point();
-        let (d, m) = sub.combine(CombineOp::Union, None, children, sp, mat);
-        let index = sub.groups.len() as u32;
-        let (kind, results, name) = match m {
-            Some(m) => (
-                FuncKind::MaterialGroup,
-                vec![d, m[0], m[1]],
-                format!("scene_group{index}_material"),
-            ),
-            None => (FuncKind::Distance, vec![d], format!("scene_group{index}")),
+        let key = (children.to_vec(), mat);
+        let index = match self.groups.index.get(&key) {
+            Some(i) => *i,
+            None => {
+                let mut sub = Builder::new(self.scene, true, std::mem::take(&mut self.groups));
+                let sp = sub.point();
+                let (d, m) = sub.combine(CombineOp::Union, None, children, sp, mat);
+                let m = m.unwrap_or_else(|| sub.material_const(mat));
+                let index = sub.groups.funcs.len() as u32;
+                sub.groups.funcs.push(Func {
+                    name: format!("scene_group{index}"),
+                    kind: FuncKind::Group,
+                    graph: sub.g,
+                    results: vec![d, m[0], m[1]],
+                });
+                sub.groups.index.insert(key, index);
+                self.groups = sub.groups;
+                index
+            }
         };
-        sub.groups.push(Func {
-            name,
-            kind,
-            graph: sub.g,
-            results,
-        });
-        self.groups = sub.groups;
         let call = |g: &mut Graph, result: u8, ty: Ty| {
             g.add_typed(
                 Op::Call {

@@ -17,8 +17,14 @@ use std::fmt::Write;
 /// The validated evaluation shader of a compiled scene.
 pub fn eval_shader(program: &Program) -> Result<String, Failure> {
     let mut s = module::emit(program, true);
-    let funcs = [&program.distance, &program.material].into_iter().chain(&program.groups);
-    let uses = |pred: &dyn Fn(&Op) -> bool| funcs.clone().any(|f| f.graph.nodes().any(|(_, n)| pred(&n.op)));
+    let funcs = [&program.distance, &program.material]
+        .into_iter()
+        .chain(&program.groups);
+    let uses = |pred: &dyn Fn(&Op) -> bool| {
+        funcs
+            .clone()
+            .any(|f| f.graph.nodes().any(|(_, n)| pred(&n.op)))
+    };
     let uses_time = uses(&|o| *o == Op::Time);
     let uses_params = uses(&|o| matches!(o, Op::Param(_)));
     let n = program.scene.params.len();

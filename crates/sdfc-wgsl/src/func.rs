@@ -20,56 +20,72 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
     }
 }
 
-/// Emits `fn NAME(p: vec3<f32>) -> RET { ... }` for a function of kind `f.kind`; `groups`
-/// are the program's group functions, which `Op::Call` nodes name.
+/// Emits a function of kind `f.kind`; `groups` are the program's group functions, which
+/// `Op::Call` nodes name.
+///
+/// A group function takes `(p, with_material: bool)` and returns a `SceneSample`: the nodes
+/// its distance needs are emitted first, the rest (material selects and blends) inside
+/// `if with_material { ... }`, so a caller that wants the distance alone (the march loop)
+/// skips them. A call is spelled with `false` where only its distance is used.
 pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
-    let (ret_ty, ret): (&str, fn(&[String]) -> String) = match f.kind {
-        FuncKind::Distance => ("f32", |r| r[0].clone()),
-        FuncKind::Material => ("SceneMaterial", |r| {
-            format!("SceneMaterial({}, {})", r[0], r[1])
-        }),
-        FuncKind::MaterialGroup => ("SceneSample", |r| {
-            format!("SceneSample({}, {}, {})", r[0], r[1], r[2])
-        }),
-    };
     let g = &f.graph;
+    // Nodes in the unconditional part: everything for a plain function, the distance's
+    // dependencies for a group.
+    let mut first = vec![f.kind != FuncKind::Group; g.len()];
+    if f.kind == FuncKind::Group {
+        first[f.results[0].index()] = true;
+        for i in (0..g.len()).rev() {
+            if first[i] {
+                for a in g.node(NodeId(i as u32)).args() {
+                    first[a.index()] = true;
+                }
+            }
+        }
+    }
+    // Which (group, argument) calls need more than the distance, per part.
+    let mut wants_material: BTreeMap<(bool, u32, NodeId), bool> = BTreeMap::new();
+    for (id, node) in g.nodes() {
+        if let Op::Call { func, result } = node.op {
+            *wants_material
+                .entry((first[id.index()], func, node.args()[0]))
+                .or_default() |= result > 0;
+        }
+    }
     let mut text: Vec<String> = vec![String::new(); g.len()];
     let mut counters: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut body = String::new();
-    // One WGSL call per (group, argument): its results are fields of one value.
-    let mut calls: BTreeMap<(u32, NodeId), String> = BTreeMap::new();
+    let mut calls: BTreeMap<(bool, u32, NodeId), String> = BTreeMap::new();
+    let mut parts = [String::new(), String::new()];
     for (id, node) in g.nodes() {
+        let part = first[id.index()];
+        let out = &mut parts[usize::from(!part)];
+        let indent = if part { "    " } else { "        " };
         if let Op::Call { func, result } = node.op {
             let arg = node.args()[0];
             let Some(callee) = groups.get(func as usize) else {
                 continue;
             };
-            let value = match calls.get(&(func, arg)) {
+            let key = (part, func, arg);
+            let value = match calls.get(&key) {
                 Some(v) => v.clone(),
                 None => {
-                    let hint = if callee.kind == FuncKind::MaterialGroup {
-                        "s"
-                    } else {
-                        "d"
-                    };
-                    let n = counters.entry(hint).or_insert(0);
-                    let name = format!("{hint}{n}");
+                    let n = counters.entry("s").or_insert(0);
+                    let name = format!("s{n}");
                     *n += 1;
+                    let flag = wants_material.get(&key).copied().unwrap_or(false);
                     let _ = writeln!(
-                        body,
-                        "    let {name} = {}({});",
+                        out,
+                        "{indent}let {name} = {}({}, {flag});",
                         callee.name,
                         text[arg.index()]
                     );
-                    calls.insert((func, arg), name.clone());
+                    calls.insert(key, name.clone());
                     name
                 }
             };
-            text[id.index()] = match (callee.kind, result) {
-                (FuncKind::MaterialGroup, 0) => format!("{value}.distance"),
-                (FuncKind::MaterialGroup, 1) => format!("{value}.albedo"),
-                (FuncKind::MaterialGroup, _) => format!("{value}.phong"),
-                _ => value,
+            text[id.index()] = match result {
+                0 => format!("{value}.distance"),
+                1 => format!("{value}.albedo"),
+                _ => format!("{value}.phong"),
             };
             continue;
         }
@@ -87,17 +103,44 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
         let n = counters.entry(hint).or_insert(0);
         let name = format!("{hint}{n}");
         *n += 1;
-        let _ = writeln!(body, "    let {name} = {expr};");
+        let _ = writeln!(out, "{indent}let {name} = {expr};");
         text[id.index()] = name;
     }
-    let results: Vec<String> = f.results.iter().map(|r| text[r.index()].clone()).collect();
-    let mut out = String::new();
-    let _ = writeln!(out, "// {doc}");
-    let _ = writeln!(out, "fn {}(p: vec3<f32>) -> {ret_ty} {{", f.name);
-    out += &body;
-    let _ = writeln!(out, "    return {};", ret(&results));
-    out += "}\n";
-    out
+    let r: Vec<&str> = f.results.iter().map(|r| text[r.index()].as_str()).collect();
+    let mut s = String::new();
+    let _ = writeln!(s, "// {doc}");
+    match f.kind {
+        FuncKind::Distance => {
+            let _ = writeln!(s, "fn {}(p: vec3<f32>) -> f32 {{", f.name);
+            s += &parts[0];
+            let _ = writeln!(s, "    return {};", r[0]);
+        }
+        FuncKind::Material => {
+            let _ = writeln!(s, "fn {}(p: vec3<f32>) -> SceneMaterial {{", f.name);
+            s += &parts[0];
+            let _ = writeln!(s, "    return SceneMaterial({}, {});", r[0], r[1]);
+        }
+        FuncKind::Group => {
+            let _ = writeln!(
+                s,
+                "fn {}(p: vec3<f32>, with_material: bool) -> SceneSample {{",
+                f.name
+            );
+            s += &parts[0];
+            let _ = writeln!(
+                s,
+                "    var sample = SceneSample({}, vec4<f32>(0.0), vec4<f32>(0.0));",
+                r[0]
+            );
+            s += "    if with_material {\n";
+            s += &parts[1];
+            let _ = writeln!(s, "        sample.albedo = {};", r[1]);
+            let _ = writeln!(s, "        sample.phong = {};", r[2]);
+            s += "    }\n    return sample;\n";
+        }
+    }
+    s += "}\n";
+    s
 }
 
 /// Wraps an operand that starts with `-` so `a - -1.0` never reads as a decrement.
@@ -127,7 +170,7 @@ fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
         }
         // Only reachable if a lambda argument escaped substitution; zero keeps WGSL valid.
         Op::LambdaArg { .. } => (literal::value(&sdfc_ir::eval::zero_of(node.ty)), true),
-        // Calls are emitted by `emit`, once per group and argument.
+        // Calls are emitted by `emit`, once per group, argument and part.
         Op::Call { .. } => ("0.0".into(), true),
         Op::Neg => (format!("-{}", operand(a[0])), false),
         Op::Add => (bin("+"), false),

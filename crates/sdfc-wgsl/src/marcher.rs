@@ -45,7 +45,11 @@ pub fn emit(scene: &Scene) -> String {
     s += "\n";
     s += &finish(scene);
     s += "\n";
-    s += if scene.render.reflections > 0 { parts::RADIANCE_REFLECTIONS } else { parts::RADIANCE_PLAIN };
+    s += if scene.render.reflections > 0 {
+        parts::RADIANCE_REFLECTIONS
+    } else {
+        parts::RADIANCE_PLAIN
+    };
     s += "\n";
     s += parts::MAIN;
     s
@@ -138,7 +142,8 @@ fn surface_epsilon(scene: &Scene) -> String {
 /// off the surface.
 fn shade(scene: &Scene) -> String {
     let shadows = scene.render.shadows != Shadows::None;
-    let mut s = String::from("// Phong shading: ambient, then diffuse and specular for each light.\n");
+    let mut s =
+        String::from("// Phong shading: ambient, then diffuse and specular for each light.\n");
     if shadows {
         s += "// Each light is attenuated by the shadow its ray to p casts.\n";
     }

@@ -4,7 +4,7 @@
 use crate::func::emit as emit_func;
 use crate::literal;
 use crate::{marcher, parts};
-use sdfc_ir::func::{Func, FuncKind};
+use sdfc_ir::func::Func;
 use sdfc_ir::ops::{Helper, Op};
 use sdfc_ir::Program;
 use std::collections::BTreeSet;
@@ -74,7 +74,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     s += "\n// A surface's material: albedo = (rgb colour, reflectivity); phong = (ambient, diffuse, specular, shininess).\n";
     s += "struct SceneMaterial {\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
-    if p.groups.iter().any(|g| g.kind == FuncKind::MaterialGroup) {
+    if !p.groups.is_empty() {
         s += "\n// The distance and material of a group of shapes.\n";
         s += "struct SceneSample {\n    distance: f32,\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
     }
@@ -92,11 +92,11 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     for g in &p.groups {
         s += "\n";
-        let doc = match g.kind {
-            FuncKind::MaterialGroup => "The distance and material of one group of a large union.",
-            _ => "The distance to one group of a large union.",
-        };
-        s += &emit_func(g, &p.groups, doc);
+        s += &emit_func(
+            g,
+            &p.groups,
+            "The distance (and, when asked, the material) of one group of a large union.",
+        );
     }
     s += "\n";
     s += &emit_func(

@@ -26,4 +26,5 @@ pub const SHADOW_HARD: &str = include_str!("../../../shaders/shading/shadow_hard
 pub const SHADOW_SOFT: &str = include_str!("../../../shaders/shading/shadow_soft.wgsl");
 pub const AMBIENT_OCCLUSION: &str = include_str!("../../../shaders/shading/ambient_occlusion.wgsl");
 pub const RADIANCE_PLAIN: &str = include_str!("../../../shaders/shading/radiance_plain.wgsl");
-pub const RADIANCE_REFLECTIONS: &str = include_str!("../../../shaders/shading/radiance_reflections.wgsl");
+pub const RADIANCE_REFLECTIONS: &str =
+    include_str!("../../../shaders/shading/radiance_reflections.wgsl");

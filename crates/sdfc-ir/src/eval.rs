@@ -157,6 +157,15 @@ pub fn apply<T: Float>(op: Op, ty: Ty, a: &[Value<T>]) -> Value<T> {
             v => v,
         },
         Op::Builtin(b) => builtin(b, a),
+        Op::Helper(h @ (Helper::RotateX | Helper::RotateY | Helper::RotateZ)) => {
+            let (p, c, s) = (v3(&a[0]), f(&a[1]), f(&a[2]));
+            // The matrix product's terms, zeros dropped (adding a zero product changes nothing).
+            Value::V3(match h {
+                Helper::RotateX => [p[0], c * p[1] + s * p[2], -s * p[1] + c * p[2]],
+                Helper::RotateY => [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]],
+                _ => [c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2]],
+            })
+        }
         Op::Helper(h) => Value::F(helper(h, a)),
     }
 }
@@ -268,6 +277,7 @@ fn helper<T: Float>(h: Helper, a: &[Value<T>]) -> T {
             ];
             d[0].max(d[1]).min(zero) + length(&d.map(|x| x.max(zero)))
         }
+        Helper::RotateX | Helper::RotateY | Helper::RotateZ => zero,
         Helper::SdCapsule => {
             let (ea, eb) = (v3(&a[1]), v3(&a[2]));
             let pa = [0, 1, 2].map(|i| p[i] - ea[i]);

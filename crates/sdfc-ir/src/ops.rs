@@ -163,6 +163,13 @@ pub enum Helper {
     SdCylinder,
     /// `(p, a, b, r)`
     SdCapsule,
+    /// `(p, c, s)`: `p` turned by the inverse of a rotation about x with cosine `c` and sine `s`
+    /// (what a constant `rotate_x` does to the point); the same numbers as the matrix product.
+    RotateX,
+    /// `(p, c, s)`, about y.
+    RotateY,
+    /// `(p, c, s)`, about z.
+    RotateZ,
 }
 
 impl Helper {
@@ -173,6 +180,9 @@ impl Helper {
         Helper::SdTorus,
         Helper::SdCylinder,
         Helper::SdCapsule,
+        Helper::RotateX,
+        Helper::RotateY,
+        Helper::RotateZ,
     ];
 
     /// The WGSL function name.
@@ -184,6 +194,9 @@ impl Helper {
             Helper::SdTorus => "sd_torus",
             Helper::SdCylinder => "sd_cylinder",
             Helper::SdCapsule => "sd_capsule",
+            Helper::RotateX => "rotate_x",
+            Helper::RotateY => "rotate_y",
+            Helper::RotateZ => "rotate_z",
         }
     }
 }

@@ -458,8 +458,18 @@ impl<'s> Builder<'s> {
             PointMap::Affine { m, o, s } => {
                 let mut q = p;
                 if let Some(m) = m {
-                    let m = self.import(*m, None);
-                    q = self.op(Op::MatMul, &[m, q]);
+                    q = match const_value(&self.scene.values, *m, &mut self.consts) {
+                        Some(Value::M3(c)) if axis_rotation(&c).is_some() => {
+                            let (helper, cos, sin) =
+                                axis_rotation(&c).unwrap_or((Helper::RotateY, 1.0, 0.0));
+                            let (cos, sin) = (self.f(cos), self.f(sin));
+                            self.op(Op::Helper(helper), &[q, cos, sin])
+                        }
+                        _ => {
+                            let m = self.import(*m, None);
+                            self.op(Op::MatMul, &[m, q])
+                        }
+                    };
                 }
                 if let Some(o) = o {
                     q = match const_value(&self.scene.values, *o, &mut self.consts)
@@ -538,4 +548,20 @@ impl<'s> Builder<'s> {
         }
         (d, m)
     }
+}
+
+/// A constant point-map matrix that turns about one axis (as `rotate_x/y/z` make it), as the
+/// helper that applies it with two numbers instead of nine, and its cosine and sine.
+fn axis_rotation(m: &[[f32; 3]; 3]) -> Option<(Helper, f32, f32)> {
+    let [a, b, c] = *m;
+    if a == [1.0, 0.0, 0.0] && b[0] == 0.0 && c[0] == 0.0 && b[1] == c[2] && c[1] == -b[2] {
+        return Some((Helper::RotateX, b[1], c[1]));
+    }
+    if b == [0.0, 1.0, 0.0] && a[1] == 0.0 && c[1] == 0.0 && a[0] == c[2] && c[0] == -a[2] {
+        return Some((Helper::RotateY, a[0], a[2]));
+    }
+    if c == [0.0, 0.0, 1.0] && a[2] == 0.0 && b[2] == 0.0 && a[0] == b[1] && b[0] == -a[1] {
+        return Some((Helper::RotateZ, a[0], b[0]));
+    }
+    None
 }

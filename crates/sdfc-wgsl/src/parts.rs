@@ -10,6 +10,9 @@ pub fn helper(h: Helper) -> &'static str {
         Helper::SdTorus => include_str!("../../../shaders/prims/sd_torus.wgsl"),
         Helper::SdCylinder => include_str!("../../../shaders/prims/sd_cylinder.wgsl"),
         Helper::SdCapsule => include_str!("../../../shaders/prims/sd_capsule.wgsl"),
+        Helper::RotateX => include_str!("../../../shaders/transforms/rotate_x.wgsl"),
+        Helper::RotateY => include_str!("../../../shaders/transforms/rotate_y.wgsl"),
+        Helper::RotateZ => include_str!("../../../shaders/transforms/rotate_z.wgsl"),
     }
 }
 

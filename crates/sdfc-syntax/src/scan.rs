@@ -78,6 +78,36 @@ impl Iterator for Bytes<'_> {
     }
 }
 
+impl Bytes<'_> {
+    /// Skips the run of [`PLAIN`] bytes at the current position and returns the last of them.
+    /// The run holds neither blanks nor comments: it is what [`Iterator::next`] would have
+    /// yielded one by one. The scans use it to go over words and numbers quickly.
+    fn skip_plain(&mut self) -> Option<u8> {
+        let start = self.pos;
+        while self
+            .src
+            .get(self.pos)
+            .is_some_and(|&c| PLAIN[usize::from(c)])
+        {
+            self.pos += 1;
+        }
+        (self.pos > start).then(|| self.src[self.pos - 1])
+    }
+}
+
+/// The bytes that neither scan acts on, one by one: not blank, not `/` (which may start a
+/// comment), no bracket, separator or `|`.
+static PLAIN: [bool; 256] = {
+    let mut table = [true; 256];
+    let special = b" \t\r\n\x0C/()[]{},;|";
+    let mut i = 0;
+    while i < special.len() {
+        table[special[i] as usize] = false;
+        i += 1;
+    }
+    table
+};
+
 fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
     haystack.windows(needle.len()).position(|w| w == needle)
 }
@@ -113,7 +143,16 @@ pub(crate) fn precheck(source: &str) -> Result<(), Diagnostic> {
     let mut prev = b';';
     let mut in_head = false;
     let mut bytes = Bytes::new(source, 0);
-    for (i, b) in bytes.by_ref() {
+    loop {
+        // Outside a lambda head, a plain byte only becomes `prev`.
+        if !in_head {
+            if let Some(last) = bytes.skip_plain() {
+                prev = last;
+            }
+        }
+        let Some((i, b)) = bytes.next() else {
+            break;
+        };
         if in_head {
             if is_ident_char(b) || b == b',' {
                 prev = b;
@@ -176,7 +215,8 @@ pub(crate) fn precheck(source: &str) -> Result<(), Diagnostic> {
 pub(crate) fn resync(source: &str, start: usize, err: usize) -> usize {
     let mut stack: Vec<u8> = Vec::new();
     let mut seen_token = false;
-    for (i, b) in Bytes::new(source, start) {
+    let mut bytes = Bytes::new(source, start);
+    while let Some((i, b)) = bytes.next() {
         if i >= err && seen_token && at_line_start(source, i) && is_item_head(source, i) {
             return i;
         }
@@ -200,11 +240,14 @@ pub(crate) fn resync(source: &str, start: usize, err: usize) -> usize {
             b';' if i >= err && !stack.contains(&b'{') => return i + 1,
             _ => {}
         }
+        // A plain byte right after a significant one is not at a line start, and the match
+        // above ignores it: skip such runs (words, numbers, operators) at once.
+        bytes.skip_plain();
     }
     source.len()
 }
 
-fn at_line_start(source: &str, i: usize) -> bool {
+pub(crate) fn at_line_start(source: &str, i: usize) -> bool {
     source.as_bytes()[..i]
         .iter()
         .rev()
@@ -213,7 +256,7 @@ fn at_line_start(source: &str, i: usize) -> bool {
 }
 
 /// Whether an item visibly starts at `i`: an item keyword followed by what that item needs next.
-fn is_item_head(source: &str, i: usize) -> bool {
+pub(crate) fn is_item_head(source: &str, i: usize) -> bool {
     let bytes = source.as_bytes();
     let word = word_at(source, i);
     let rest = &bytes[i + word.len()..];

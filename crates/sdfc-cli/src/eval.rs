@@ -1,7 +1,9 @@
-//! `sdfc eval`: the scene distance at given points, from the f64 reference evaluator.
+//! `sdfc eval`: the scene distance at given points, from the f64 reference evaluator, or
+//! with `--gpu` through the emitted WGSL on the wgpu device.
 
+use crate::render::{open_renderer, param_overrides, render_failure, to_f32};
 use crate::{read_source, report, Outcome};
-use sdfc_ir::eval::{eval_graph, Inputs};
+use sdfc_ir::eval::{eval_func, Inputs};
 use sdfc_ir::value::Value;
 use std::path::PathBuf;
 
@@ -12,7 +14,7 @@ pub struct Args {
     /// A CSV file with one `x,y,z` point per line
     #[arg(long)]
     points: PathBuf,
-    /// Evaluate through the emitted WGSL on the GPU (needs the renderer)
+    /// Evaluate through the emitted WGSL on the wgpu device (f32) instead of the f64 reference
     #[arg(long)]
     gpu: bool,
     /// Override a param: NAME=VALUE, or NAME=x,y,z for vectors
@@ -24,10 +26,6 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
-    if a.gpu {
-        eprintln!("sdfc: `eval --gpu` needs the wgpu renderer, which this build of sdfc does not include yet");
-        return Outcome::EnvError;
-    }
     let path = a.scene.display().to_string();
     let source = match read_source(&a.scene) {
         Ok(s) => s,
@@ -38,34 +36,19 @@ pub fn run(a: Args) -> Outcome {
         Err(f) => return report::failure(&path, &source, &f),
     };
     let program = compiled.program();
+    let overrides = match param_overrides(program, &a.params) {
+        Ok(p) => p,
+        Err(o) => return o,
+    };
     let mut params: Vec<Value<f64>> = program
         .scene
         .params
         .iter()
         .map(|p| p.default.cast())
         .collect();
-    for spec in &a.params {
-        let Some((name, value)) = spec.split_once('=') else {
-            eprintln!("sdfc: --param takes NAME=VALUE, found `{spec}`");
-            return Outcome::EnvError;
-        };
-        let Some(i) = program.scene.params.iter().position(|p| p.name == name) else {
-            eprintln!("sdfc: the scene has no param `{name}`");
-            return Outcome::InputError;
-        };
-        let comps: Result<Vec<f64>, _> =
-            value.split(',').map(|c| c.trim().parse::<f64>()).collect();
-        match comps {
-            Ok(c) if c.len() == program.scene.params[i].ty.width() => {
-                params[i] = Value::from_comps(program.scene.params[i].ty, &c);
-            }
-            _ => {
-                eprintln!(
-                    "sdfc: --param {name} needs {} number(s), found `{value}`",
-                    program.scene.params[i].ty.width()
-                );
-                return Outcome::InputError;
-            }
+    for (name, comps) in &overrides {
+        if let Some(i) = program.scene.params.iter().position(|p| &p.name == name) {
+            params[i] = Value::from_comps(program.scene.params[i].ty, comps);
         }
     }
     let text = match std::fs::read_to_string(&a.points) {
@@ -76,7 +59,7 @@ pub fn run(a: Args) -> Outcome {
         }
     };
     let pts_path = a.points.display().to_string();
-    let mut out = String::new();
+    let mut points = Vec::new();
     for (n, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -91,13 +74,35 @@ pub fn run(a: Args) -> Outcome {
             return Outcome::InputError;
         }
         let p: Vec<f64> = comps.into_iter().flatten().collect();
-        let inputs = Inputs {
-            point: [p[0], p[1], p[2]],
-            params: params.clone(),
-            time: a.time,
+        points.push([p[0], p[1], p[2]]);
+    }
+    let mut out = String::new();
+    if a.gpu {
+        let renderer = match open_renderer() {
+            Ok(r) => r,
+            Err(o) => return o,
         };
-        let d = eval_graph(&program.distance.graph, &program.distance.results, &inputs);
-        out += &format!("{:?}\n", d[0].scalar().unwrap_or(f64::NAN));
+        let pts: Vec<[f32; 3]> = points
+            .iter()
+            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
+            .collect();
+        let values = match renderer.eval_gpu(program, &pts, a.time as f32, &to_f32(&overrides)) {
+            Ok(v) => v,
+            Err(e) => return render_failure(&e),
+        };
+        for d in values {
+            out += &format!("{d:?}\n");
+        }
+    } else {
+        for p in points {
+            let inputs = Inputs {
+                point: p,
+                params: params.clone(),
+                time: a.time,
+            };
+            let d = eval_func(&program.distance, &program.groups, &inputs);
+            out += &format!("{:?}\n", d[0].scalar().unwrap_or(f64::NAN));
+        }
     }
     print!("{out}");
     Outcome::Ok

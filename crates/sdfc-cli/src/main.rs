@@ -1,9 +1,10 @@
-//! `sdfc`: compile, check, and evaluate signed-distance scenes (see `shared/spec/cli.md`).
+//! `sdfc`: compile, check, evaluate and render signed-distance scenes (see `shared/spec/cli.md`).
 //! Exit status: 0 success, 1 a problem in the user's input, 2 usage or environment.
 
 mod check;
 mod compile;
 mod eval;
+mod render;
 mod report;
 
 use clap::{Parser, Subcommand};
@@ -27,8 +28,11 @@ enum Command {
     Compile(compile::Args),
     /// Compile and validate .sdf files, validate .wgsl files; one line per file
     Check(check::Args),
-    /// Print the scene distance at each x,y,z line of a CSV file (f64 reference evaluator)
+    /// Print the scene distance at each x,y,z line of a CSV file (f64 reference evaluator,
+    /// or the emitted WGSL on the device with --gpu)
     Eval(eval::Args),
+    /// Render a scene to a PNG (or a float AOV to EXR/NPY) on the GPU or software Vulkan
+    Render(render::Args),
 }
 
 /// The outcome of a command, mapped to the exit statuses of the CLI contract.
@@ -57,6 +61,7 @@ fn main() -> ExitCode {
         Command::Compile(a) => compile::run(a),
         Command::Check(a) => check::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Render(a) => render::run(a),
     });
     match outcome {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

@@ -1,0 +1,212 @@
+//! `sdfc render`: a scene to a PNG, or one of its float AOVs to EXR / NPY, on the wgpu device.
+
+use crate::{read_source, report, Outcome};
+use sdfc_ir::Program;
+use sdfc_render::output::{self, FloatFormat};
+use sdfc_render::{AovKind, RenderError, RenderOptions, Renderer};
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+#[command(
+    after_help = "The device: a GPU if there is one, else Mesa's software Vulkan \
+    (lavapipe), else software GL; the one used is named on stderr. SDFC_BACKEND=vulkan or \
+    SDFC_BACKEND=gl allows only that backend."
+)]
+pub struct Args {
+    /// The scene file (.sdf)
+    scene: PathBuf,
+    /// The image to write: .png, or with --aov a float image, .exr or .npy
+    #[arg(short, long, value_name = "OUT")]
+    output: Option<PathBuf>,
+    /// Image size, WIDTHxHEIGHT
+    #[arg(long, value_name = "WxH", default_value = "512x512", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Override a param: NAME=VALUE, or NAME=x,y,z for vectors (repeatable)
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Time in seconds
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
+    /// Write a float image instead of the colour: depth (t along the ray, inf on a miss),
+    /// normal (world space, 0 on a miss) or steps (march count)
+    #[arg(long, value_name = "depth|normal|steps", value_parser = parse_aov)]
+    aov: Option<AovKind>,
+    /// Render with the generic interpreted marcher instead of the specialised shader (not
+    /// built yet: exits with status 2)
+    #[arg(long)]
+    interpreted: bool,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT (e.g. 640x480), found `{s}`");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 {
+        return Err(format!("the image size must be at least 1x1, found `{s}`"));
+    }
+    Ok((w, h))
+}
+
+fn parse_aov(s: &str) -> Result<AovKind, String> {
+    s.parse()
+}
+
+/// Parses `NAME=VALUE` param overrides against the scene's params. A malformed option is a
+/// usage error; an unknown name or a wrong number of components is an input error.
+pub fn param_overrides(
+    program: &Program,
+    specs: &[String],
+) -> Result<Vec<(String, Vec<f64>)>, Outcome> {
+    let mut out = Vec::new();
+    for spec in specs {
+        let Some((name, value)) = spec.split_once('=') else {
+            eprintln!("sdfc: --param takes NAME=VALUE, found `{spec}`");
+            return Err(Outcome::EnvError);
+        };
+        let name = name.trim();
+        let Some(decl) = program.scene.params.iter().find(|p| p.name == name) else {
+            let known: Vec<&str> = program
+                .scene
+                .params
+                .iter()
+                .map(|p| p.name.as_str())
+                .collect();
+            if known.is_empty() {
+                eprintln!("sdfc: the scene has no param `{name}` (it declares none)");
+            } else {
+                eprintln!(
+                    "sdfc: the scene has no param `{name}` (its params: {})",
+                    known.join(", ")
+                );
+            }
+            return Err(Outcome::InputError);
+        };
+        let comps: Result<Vec<f64>, _> =
+            value.split(',').map(|c| c.trim().parse::<f64>()).collect();
+        match comps {
+            Ok(c) if c.len() == decl.ty.width() && c.iter().all(|v| v.is_finite()) => {
+                out.push((name.to_string(), c));
+            }
+            _ => {
+                eprintln!(
+                    "sdfc: --param {name} needs {} finite number(s), found `{value}`",
+                    decl.ty.width()
+                );
+                return Err(Outcome::InputError);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The f32 form the device takes.
+pub fn to_f32(params: &[(String, Vec<f64>)]) -> Vec<(String, Vec<f32>)> {
+    params
+        .iter()
+        .map(|(n, v)| (n.clone(), v.iter().map(|&c| c as f32).collect()))
+        .collect()
+}
+
+/// Opens the device and says which on stderr.
+pub fn open_renderer() -> Result<Renderer, Outcome> {
+    match Renderer::new() {
+        Ok(r) => {
+            eprintln!("sdfc: device: {}", r.adapter_description());
+            Ok(r)
+        }
+        Err(e) => {
+            eprintln!("sdfc: cannot render: {e}");
+            Err(Outcome::EnvError)
+        }
+    }
+}
+
+/// Prints a render error; returns the outcome it maps to.
+pub fn render_failure(e: &RenderError) -> Outcome {
+    eprintln!("sdfc: {e}");
+    if e.is_input_error() {
+        Outcome::InputError
+    } else {
+        Outcome::EnvError
+    }
+}
+
+fn check_output(out: &Path, aov: Option<AovKind>) -> Result<(), String> {
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    match (aov, ext.as_deref()) {
+        (None, Some("png")) => Ok(()),
+        (None, _) => Err(format!(
+            "the colour image is written as PNG: `{}` should end in .png (use --aov for .exr or .npy)",
+            out.display()
+        )),
+        (Some(_), _) if FloatFormat::from_path(out).is_some() => Ok(()),
+        (Some(_), _) => Err(format!(
+            "AOVs are float images: `{}` should end in .exr or .npy",
+            out.display()
+        )),
+    }
+}
+
+pub fn run(a: Args) -> Outcome {
+    let Some(out) = &a.output else {
+        eprintln!("error: `sdfc render` needs an output file: -o OUT.png (or -o OUT.exr|OUT.npy with --aov)");
+        eprintln!("\nUsage: sdfc render SCENE.sdf -o OUT.png [--size WxH] [--param NAME=VALUE]... [--time T] [--aov depth|normal|steps]");
+        return Outcome::EnvError;
+    };
+    if let Err(msg) = check_output(out, a.aov) {
+        eprintln!("error: {msg}");
+        return Outcome::EnvError;
+    }
+    if a.interpreted {
+        eprintln!(
+            "sdfc: `render --interpreted` (the generic interpreted marcher) is not built yet; \
+             render without it to use the specialised shader"
+        );
+        return Outcome::EnvError;
+    }
+    if !a.time.is_finite() {
+        eprintln!("error: --time must be finite, found {}", a.time);
+        return Outcome::EnvError;
+    }
+    let path = a.scene.display().to_string();
+    let source = match read_source(&a.scene) {
+        Ok(s) => s,
+        Err(o) => return o,
+    };
+    let compiled = match sdfc_wgsl::compile(&source, &sdfc_wgsl::Options::default()) {
+        Ok(c) => c,
+        Err(f) => return report::failure(&path, &source, &f),
+    };
+    report::diagnostics(&path, &source, &compiled.warnings);
+    let params = match param_overrides(compiled.program(), &a.params) {
+        Ok(p) => to_f32(&p),
+        Err(o) => return o,
+    };
+    let renderer = match open_renderer() {
+        Ok(r) => r,
+        Err(o) => return o,
+    };
+    let opts = RenderOptions {
+        width: a.size.0,
+        height: a.size.1,
+        time: a.time,
+        params,
+        aovs: a.aov.is_some(),
+    };
+    let frame = match renderer.render(&compiled, &opts) {
+        Ok(f) => f,
+        Err(e) => return render_failure(&e),
+    };
+    let written = match a.aov {
+        None => output::write_png(out, &frame),
+        Some(kind) => output::write_aov(out, &frame, kind),
+    };
+    match written {
+        Ok(()) => Outcome::Ok,
+        Err(e) => render_failure(&e),
+    }
+}

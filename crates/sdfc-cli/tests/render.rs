@@ -1,0 +1,545 @@
+//! End-to-end tests of `sdfc render` and `sdfc eval --gpu` (CLI contract, `shared/spec/cli.md`).
+//! They need a wgpu adapter (a GPU, or Mesa's software Vulkan): without one they are skipped
+//! with a printed reason, except on CI (`CI=true`), where they fail.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
+
+const SPHERE: &str = "scene = sphere(1);\n";
+const PARAM_SPHERE: &str = "param r = 1;\nparam c = [0, 0, 0];\nscene = sphere(r).translate(c);\n";
+const MOVING: &str = "scene = sphere(1).translate([time, 0, 0]);\n";
+const BROKEN: &str = "let r = 1;\nscene = spher(r);\n";
+
+/// A fresh, empty directory under the system temp dir, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("sdfc-render-cli-{}-{n}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, contents).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        path
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+impl Run {
+    fn describe(&self) -> String {
+        format!(
+            "exit {}\n--- stdout ---\n{}\n--- stderr ---\n{}",
+            self.code, self.stdout, self.stderr
+        )
+    }
+
+    fn expect_code(self, code: i32) -> Run {
+        assert_eq!(
+            self.code,
+            code,
+            "unexpected exit status:\n{}",
+            self.describe()
+        );
+        self
+    }
+}
+
+fn sdfc_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sdfc"));
+    cmd.args(args).current_dir(dir).env("NO_COLOR", "1");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run sdfc: {e}"));
+    let run = Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    };
+    for bad in [
+        "panicked",
+        "RUST_BACKTRACE",
+        "stack backtrace",
+        "internal error",
+    ] {
+        assert!(
+            !run.stdout.contains(bad) && !run.stderr.contains(bad),
+            "`sdfc {}` printed `{bad}`:\n{}",
+            args.join(" "),
+            run.describe()
+        );
+    }
+    assert!(
+        matches!(run.code, 0..=2),
+        "`sdfc {}` exited with {}:\n{}",
+        args.join(" "),
+        run.code,
+        run.describe()
+    );
+    run
+}
+
+fn sdfc_in(dir: &Path, args: &[&str]) -> Run {
+    sdfc_env(dir, args, &[])
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("temp paths are UTF-8")
+}
+
+/// Whether `sdfc render` finds a device here. Without one: skip (printing why), or fail on CI.
+fn have_device() -> bool {
+    static AVAILABLE: OnceLock<Result<(), String>> = OnceLock::new();
+    let r = AVAILABLE.get_or_init(|| {
+        let t = TempDir::new("probe");
+        let scene = t.write("s.sdf", SPHERE);
+        let out = t.path("s.png");
+        let run = sdfc_in(&t.0, &["render", s(&scene), "-o", s(&out), "--size", "8x8"]);
+        match run.code {
+            0 => Ok(()),
+            _ if run.stderr.contains("no usable graphics adapter") => Err(run.stderr),
+            _ => panic!("`sdfc render` of a sphere failed:\n{}", run.describe()),
+        }
+    });
+    match r {
+        Ok(()) => true,
+        Err(e) if std::env::var("CI").is_ok_and(|v| v == "true" || v == "1") => {
+            panic!("no wgpu adapter on CI (install mesa-vulkan-drivers): {e}")
+        }
+        Err(e) => {
+            // Once, on the real stderr (libtest captures `eprintln!` of passing tests).
+            static ONCE: std::sync::Once = std::sync::Once::new();
+            ONCE.call_once(|| {
+                use std::io::Write;
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "SKIPPED: render tests need a wgpu adapter, and this machine has none: {e}"
+                );
+            });
+            false
+        }
+    }
+}
+
+fn read_png(path: &Path) -> image::RgbaImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8()
+}
+
+/// (shape, values) of a little-endian f4 `.npy` file.
+fn read_npy(path: &Path) -> (Vec<usize>, Vec<f32>) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(&bytes[..6], b"\x93NUMPY", "not a .npy file");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(header.contains("'descr': '<f4'"), "{header}");
+    let shape: Vec<usize> = header
+        .split("'shape': (")
+        .nth(1)
+        .and_then(|t| t.split(')').next())
+        .unwrap()
+        .split(',')
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect();
+    let data: Vec<f32> = bytes[10 + len..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(shape.iter().product::<usize>(), data.len());
+    (shape, data)
+}
+
+/// One channel of an OpenEXR file: (width, height, values).
+fn read_exr_channel(path: &Path, name: &str) -> (usize, usize, Vec<f32>) {
+    let image = exr::prelude::read_first_flat_layer_from_file(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let layer = &image.layer_data;
+    let channel = layer
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.to_string() == name)
+        .unwrap_or_else(|| panic!("{}: no channel {name}", path.display()));
+    let values = match &channel.sample_data {
+        exr::prelude::FlatSamples::F32(v) => v.clone(),
+        other => panic!("channel {name} is not f32: {other:?}"),
+    };
+    (layer.size.0, layer.size.1, values)
+}
+
+// ---- usage (no device needed) ----
+
+#[test]
+fn missing_output_is_a_usage_error() {
+    let t = TempDir::new("no-o");
+    let scene = t.write("s.sdf", SPHERE);
+    let run = sdfc_in(&t.0, &["render", s(&scene)]).expect_code(2);
+    assert!(run.stderr.contains("-o"), "{}", run.describe());
+}
+
+#[test]
+fn bad_options_are_usage_errors() {
+    let t = TempDir::new("usage");
+    let scene = t.write("s.sdf", SPHERE);
+    let png = t.path("o.png");
+    for args in [
+        vec!["--size", "64"],
+        vec!["--size", "0x10"],
+        vec!["--size", "axb"],
+        vec!["--aov", "colour"],
+        vec!["--param", "r"],
+    ] {
+        let mut all = vec!["render", s(&scene), "-o", s(&png)];
+        all.extend(args.iter().copied());
+        sdfc_in(&t.0, &all).expect_code(2);
+    }
+    // The output's extension must fit: PNG for colour, EXR/NPY for an AOV.
+    let run = sdfc_in(&t.0, &["render", s(&scene), "-o", s(&t.path("o.jpg"))]).expect_code(2);
+    assert!(run.stderr.contains(".png"), "{}", run.describe());
+    let run = sdfc_in(
+        &t.0,
+        &["render", s(&scene), "-o", s(&png), "--aov", "depth"],
+    )
+    .expect_code(2);
+    assert!(run.stderr.contains(".exr"), "{}", run.describe());
+    assert!(!png.exists());
+}
+
+#[test]
+fn interpreted_is_not_built_yet() {
+    let t = TempDir::new("interp");
+    let scene = t.write("s.sdf", SPHERE);
+    let run = sdfc_in(
+        &t.0,
+        &[
+            "render",
+            s(&scene),
+            "-o",
+            s(&t.path("o.png")),
+            "--interpreted",
+        ],
+    )
+    .expect_code(2);
+    assert!(run.stderr.contains("not built yet"), "{}", run.describe());
+}
+
+#[test]
+fn a_bad_backend_choice_is_an_environment_error() {
+    let t = TempDir::new("backend");
+    let scene = t.write("s.sdf", SPHERE);
+    let run = sdfc_env(
+        &t.0,
+        &[
+            "render",
+            s(&scene),
+            "-o",
+            s(&t.path("o.png")),
+            "--size",
+            "8x8",
+        ],
+        &[("SDFC_BACKEND", "metal")],
+    )
+    .expect_code(2);
+    assert!(run.stderr.contains("SDFC_BACKEND"), "{}", run.describe());
+}
+
+#[test]
+fn broken_scene_and_unknown_param_are_input_errors() {
+    let t = TempDir::new("input");
+    let broken = t.write("b.sdf", BROKEN);
+    let out = t.path("o.png");
+    let run = sdfc_in(&t.0, &["render", s(&broken), "-o", s(&out)]).expect_code(1);
+    assert!(
+        run.stderr.contains("unknown function `spher`"),
+        "{}",
+        run.describe()
+    );
+    assert!(run.stderr.contains("b.sdf:2:9"), "{}", run.describe());
+    let scene = t.write("p.sdf", PARAM_SPHERE);
+    let run = sdfc_in(
+        &t.0,
+        &["render", s(&scene), "-o", s(&out), "--param", "radius=2"],
+    )
+    .expect_code(1);
+    assert!(run.stderr.contains("radius"), "{}", run.describe());
+    sdfc_in(
+        &t.0,
+        &["render", s(&scene), "-o", s(&out), "--param", "c=1,2"],
+    )
+    .expect_code(1);
+    assert!(!out.exists());
+    sdfc_in(&t.0, &["render", s(&t.path("none.sdf")), "-o", s(&out)]).expect_code(2);
+}
+
+// ---- rendering ----
+
+#[test]
+fn render_writes_a_png_of_the_requested_size() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("png");
+    let scene = t.write("s.sdf", SPHERE);
+    let out = t.path("o.png");
+    let run = sdfc_in(
+        &t.0,
+        &["render", s(&scene), "-o", s(&out), "--size", "40x30"],
+    )
+    .expect_code(0);
+    assert!(run.stderr.contains("device:"), "{}", run.describe());
+    let img = read_png(&out);
+    assert_eq!((img.width(), img.height()), (40, 30));
+    // The sphere in the middle, the black background in the corner.
+    assert_ne!(img.get_pixel(20, 15).0[..3], [0, 0, 0]);
+    assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0, 255]);
+    // The default size is 512x512.
+    let out = t.path("default.png");
+    sdfc_in(&t.0, &["render", s(&scene), "-o", s(&out)]).expect_code(0);
+    let img = read_png(&out);
+    assert_eq!((img.width(), img.height()), (512, 512));
+}
+
+#[test]
+fn render_of_the_spec_scene() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("spec");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spec_section10.sdf");
+    let out = t.path("spec.png");
+    sdfc_in(
+        &t.0,
+        &["render", s(&scene), "-o", s(&out), "--size", "48x32"],
+    )
+    .expect_code(0);
+    assert_eq!(read_png(&out).dimensions(), (48, 32));
+}
+
+#[test]
+fn params_and_time_change_the_picture() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("param");
+    let scene = t.write("p.sdf", PARAM_SPHERE);
+    let render = |name: &str, extra: &[&str]| {
+        let out = t.path(name);
+        let mut args = vec!["render", s(&scene), "-o", s(&out), "--size", "32x24"];
+        args.extend_from_slice(extra);
+        sdfc_in(&t.0, &args).expect_code(0);
+        read_png(&out).into_raw()
+    };
+    let base = render("a.png", &[]);
+    assert_eq!(
+        base,
+        render("b.png", &["--param", "r=1"]),
+        "same value, same picture"
+    );
+    assert_ne!(base, render("c.png", &["--param", "r=0.5"]));
+    assert_ne!(base, render("d.png", &["--param", "c=0.5,0,0"]));
+    let moving = t.write("m.sdf", MOVING);
+    let at = |time: &str| {
+        let out = t.path(&format!("t{time}.png"));
+        sdfc_in(
+            &t.0,
+            &[
+                "render",
+                s(&moving),
+                "-o",
+                s(&out),
+                "--size",
+                "32x24",
+                "--time",
+                time,
+            ],
+        )
+        .expect_code(0);
+        read_png(&out).into_raw()
+    };
+    assert_ne!(at("0"), at("0.5"));
+}
+
+#[test]
+fn depth_aov_to_npy_and_exr() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("aov");
+    let scene = t.write("s.sdf", SPHERE);
+    // Odd size: the centre pixel's ray is the camera axis, which meets the sphere at t = 4.
+    let (w, h) = (33usize, 25usize);
+    let npy = t.path("depth.npy");
+    let exr = t.path("depth.exr");
+    for out in [&npy, &exr] {
+        sdfc_in(
+            &t.0,
+            &[
+                "render",
+                s(&scene),
+                "-o",
+                s(out),
+                "--size",
+                "33x25",
+                "--aov",
+                "depth",
+            ],
+        )
+        .expect_code(0);
+    }
+    let (shape, depth) = read_npy(&npy);
+    assert_eq!(shape, vec![h, w]);
+    let centre = (h / 2) * w + w / 2;
+    assert!((depth[centre] - 4.0).abs() < 1e-5, "{}", depth[centre]);
+    assert_eq!(depth[0], f32::INFINITY, "a miss is inf");
+    assert!(depth.iter().all(|d| !d.is_nan()));
+    let (ew, eh, exr_depth) = read_exr_channel(&exr, "Z");
+    assert_eq!((ew, eh), (w, h));
+    let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits(&exr_depth),
+        bits(&depth),
+        "EXR and NPY hold the same floats"
+    );
+}
+
+#[test]
+fn normal_and_steps_aovs() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("aov2");
+    let scene = t.write("s.sdf", SPHERE);
+    let normal = t.path("n.npy");
+    let steps = t.path("s.npy");
+    let normal_exr = t.path("n.exr");
+    for (out, kind) in [
+        (&normal, "normal"),
+        (&steps, "steps"),
+        (&normal_exr, "normal"),
+    ] {
+        sdfc_in(
+            &t.0,
+            &[
+                "render",
+                s(&scene),
+                "-o",
+                s(out),
+                "--size",
+                "33x25",
+                "--aov",
+                kind,
+            ],
+        )
+        .expect_code(0);
+    }
+    let (shape, n) = read_npy(&normal);
+    assert_eq!(shape, vec![25, 33, 3]);
+    let centre = 12 * 33 + 16;
+    assert!(
+        (n[3 * centre + 2] - 1.0).abs() < 1e-4,
+        "{:?}",
+        &n[3 * centre..3 * centre + 3]
+    );
+    assert_eq!(&n[..3], &[0.0, 0.0, 0.0], "a miss has a zero normal");
+    let (_, _, z) = read_exr_channel(&normal_exr, "B");
+    assert_eq!(z[centre].to_bits(), n[3 * centre + 2].to_bits());
+    let (shape, st) = read_npy(&steps);
+    assert_eq!(shape, vec![25, 33]);
+    assert!(st.iter().all(|v| *v >= 1.0 && v.fract() == 0.0));
+}
+
+#[test]
+fn unwritable_output_is_an_environment_error() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("unwritable");
+    let scene = t.write("s.sdf", SPHERE);
+    let out = t.path("no/such/dir/o.png");
+    sdfc_in(&t.0, &["render", s(&scene), "-o", s(&out), "--size", "8x8"]).expect_code(2);
+}
+
+// ---- eval --gpu ----
+
+fn lines(run: &Run) -> Vec<f64> {
+    run.stdout
+        .lines()
+        .map(|l| {
+            l.parse::<f64>()
+                .unwrap_or_else(|e| panic!("`{l}` is not a number ({e}):\n{}", run.describe()))
+        })
+        .collect()
+}
+
+#[test]
+fn eval_gpu_agrees_with_the_reference() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("eval-gpu");
+    let scene = t.write("p.sdf", PARAM_SPHERE);
+    let pts = t.write(
+        "pts.csv",
+        "3,0,0\n0,0,0\n# comment\n\n1,1,1\n0.1,-2.5,0.7\n",
+    );
+    for extra in [vec![], vec!["--param", "r=0.5", "--param", "c=0.25,0,1"]] {
+        let mut args = vec!["eval", s(&scene), "--points", s(&pts)];
+        args.extend(extra.iter().copied());
+        let cpu = lines(&sdfc_in(&t.0, &args).expect_code(0));
+        args.push("--gpu");
+        let run = sdfc_in(&t.0, &args).expect_code(0);
+        let gpu = lines(&run);
+        assert_eq!(gpu.len(), cpu.len(), "{}", run.describe());
+        for (g, c) in gpu.iter().zip(&cpu) {
+            assert!((g - c).abs() <= 1e-5 * c.abs() + 2e-6, "gpu {g} vs cpu {c}");
+        }
+        // Full f32 precision: each line reads back as the f32 it printed.
+        for l in run.stdout.lines() {
+            let v: f32 = l.parse().unwrap();
+            assert_eq!(format!("{v:?}"), l);
+        }
+    }
+    // The same errors as the CPU path.
+    sdfc_in(
+        &t.0,
+        &[
+            "eval",
+            s(&scene),
+            "--points",
+            s(&pts),
+            "--gpu",
+            "--param",
+            "q=1",
+        ],
+    )
+    .expect_code(1);
+}

@@ -1,0 +1,445 @@
+//! Opening the device, catching its errors, and the pipeline cache.
+
+use crate::RenderError;
+use std::collections::HashMap;
+use std::fmt;
+use std::hash::{Hash, Hasher};
+use std::panic::AssertUnwindSafe;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Which adapter a [`Renderer`] runs on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AdapterDescription {
+    /// The adapter's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
+    pub name: String,
+    /// `Vulkan`, `Gl`, ...
+    pub backend: String,
+    /// `DiscreteGpu`, `IntegratedGpu`, `VirtualGpu`, `Cpu` or `Other`.
+    pub device_type: String,
+    /// Driver name and version, where the backend reports them.
+    pub driver: String,
+    /// True for a CPU (software) adapter.
+    pub software: bool,
+}
+
+impl fmt::Display for AdapterDescription {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} ({}, {}", self.name, self.backend, self.device_type)?;
+        if !self.driver.is_empty() {
+            write!(f, ", {}", self.driver)?;
+        }
+        f.write_str(")")
+    }
+}
+
+/// Which of the two shader interfaces a pipeline follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum Kind {
+    /// The render shader: entry `main`, uniform + two read-write storage buffers.
+    Render,
+    /// The point-evaluation shader: entry `eval_main`, uniform + read-only + read-write.
+    Eval,
+}
+
+pub(crate) struct CachedPipeline {
+    wgsl: String,
+    pub(crate) pipeline: wgpu::ComputePipeline,
+}
+
+/// Errors nobody's error scope caught, and device loss, as reported by wgpu's callbacks.
+#[derive(Default)]
+pub(crate) struct ErrorSink {
+    uncaptured: Mutex<Vec<String>>,
+    lost: Mutex<Option<String>>,
+}
+
+/// A wgpu device ready to render compiled scenes and evaluate them at points.
+///
+/// `Renderer` is `Send + Sync`: threads may share one (each call pushes its own error scopes).
+pub struct Renderer {
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
+    pub(crate) limits: wgpu::Limits,
+    pub(crate) timestamps: bool,
+    description: AdapterDescription,
+    render_layout: wgpu::PipelineLayout,
+    pub(crate) render_bind_layout: wgpu::BindGroupLayout,
+    eval_layout: wgpu::PipelineLayout,
+    pub(crate) eval_bind_layout: wgpu::BindGroupLayout,
+    pipelines: Mutex<HashMap<u64, Vec<Arc<CachedPipeline>>>>,
+    compilations: AtomicUsize,
+    sink: Arc<ErrorSink>,
+}
+
+/// The backends `SDFC_BACKEND` allows.
+fn backends_from_env() -> Result<wgpu::Backends, RenderError> {
+    match std::env::var("SDFC_BACKEND") {
+        Err(_) => Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL),
+        Ok(v) => match v.trim().to_ascii_lowercase().as_str() {
+            "" | "auto" => Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL),
+            "vulkan" | "vk" => Ok(wgpu::Backends::VULKAN),
+            "gl" | "gles" | "opengl" => Ok(wgpu::Backends::GL),
+            _ => Err(RenderError::BadBackend(v)),
+        },
+    }
+}
+
+/// Lower is better: hardware first, then software Vulkan, then software GL.
+fn rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
+    let vulkan = info.backend == wgpu::Backend::Vulkan;
+    let kind = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu if vulkan => 3,
+        wgpu::DeviceType::Other if vulkan => 4,
+        wgpu::DeviceType::Cpu => 5,
+        wgpu::DeviceType::Other => 6,
+    };
+    (kind, if vulkan { 0 } else { 1 })
+}
+
+fn describe(info: &wgpu::AdapterInfo) -> AdapterDescription {
+    let driver = [info.driver.trim(), info.driver_info.trim()]
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    AdapterDescription {
+        name: info.name.clone(),
+        backend: format!("{:?}", info.backend),
+        device_type: format!("{:?}", info.device_type),
+        driver,
+        software: info.device_type == wgpu::DeviceType::Cpu,
+    }
+}
+
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn layouts(
+    device: &wgpu::Device,
+    read_only_input: bool,
+) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+    let bind = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sdfc bindings"),
+        entries: &[
+            buffer_entry(0, wgpu::BufferBindingType::Uniform),
+            buffer_entry(
+                1,
+                wgpu::BufferBindingType::Storage {
+                    read_only: read_only_input,
+                },
+            ),
+            buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: false }),
+        ],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("sdfc layout"),
+        bind_group_layouts: &[Some(&bind)],
+        immediate_size: 0,
+    });
+    (bind, layout)
+}
+
+/// The error scopes around a piece of device work, popped innermost first.
+pub(crate) struct Scopes(Vec<wgpu::ErrorScopeGuard>);
+
+impl Scopes {
+    pub(crate) fn push(device: &wgpu::Device) -> Scopes {
+        Scopes(vec![
+            device.push_error_scope(wgpu::ErrorFilter::Validation),
+            device.push_error_scope(wgpu::ErrorFilter::OutOfMemory),
+            device.push_error_scope(wgpu::ErrorFilter::Internal),
+        ])
+    }
+
+    /// The errors the scopes caught, one message each.
+    pub(crate) fn pop(mut self) -> Vec<String> {
+        let mut errors = Vec::new();
+        while let Some(scope) = self.0.pop() {
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                errors.push(error_text(&e));
+            }
+        }
+        errors
+    }
+}
+
+/// A wgpu error with its chain of sources (the useful part is often in a source).
+fn error_text(e: &wgpu::Error) -> String {
+    use std::error::Error;
+    let mut s = e.to_string();
+    let mut source = e.source();
+    while let Some(inner) = source {
+        let t = inner.to_string();
+        if !s.contains(&t) {
+            s += ": ";
+            s += &t;
+        }
+        source = inner.source();
+    }
+    s
+}
+
+impl Renderer {
+    /// Opens the best device available (see the crate documentation for the order and
+    /// `SDFC_BACKEND`).
+    pub fn new() -> Result<Renderer, RenderError> {
+        let backends = backends_from_env()?;
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends,
+            flags: wgpu::InstanceFlags::empty().with_env(),
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        adapters.sort_by_key(|a| rank(&a.get_info()));
+        let mut tried = Vec::new();
+        for adapter in adapters {
+            let info = adapter.get_info();
+            let compute = adapter
+                .get_downlevel_capabilities()
+                .flags
+                .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+            if !compute {
+                tried.push(format!(
+                    "{} ({:?}): no compute shaders",
+                    info.name, info.backend
+                ));
+                continue;
+            }
+            match Renderer::open(&adapter, &info) {
+                Ok(r) => return Ok(r),
+                Err(e) => tried.push(format!("{} ({:?}): {e}", info.name, info.backend)),
+            }
+        }
+        let allowed = if backends == wgpu::Backends::GL {
+            "GL (SDFC_BACKEND=gl)"
+        } else if backends == wgpu::Backends::VULKAN {
+            "Vulkan (SDFC_BACKEND=vulkan)"
+        } else {
+            "Vulkan and GL"
+        };
+        let mut msg = format!("none found among {allowed} adapters");
+        if tried.is_empty() {
+            msg += "; on a machine without a GPU install Mesa's software Vulkan \
+                    (Debian/Ubuntu: apt-get install mesa-vulkan-drivers)";
+        } else {
+            msg += &format!(" ({})", tried.join("; "));
+        }
+        Err(RenderError::NoAdapter(msg))
+    }
+
+    fn open(adapter: &wgpu::Adapter, info: &wgpu::AdapterInfo) -> Result<Renderer, RenderError> {
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let required_features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("sdfc"),
+            required_features,
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| RenderError::Device(format!("cannot open the device: {e}")))?;
+        let sink = Arc::new(ErrorSink::default());
+        {
+            let sink = sink.clone();
+            device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+                if let Ok(mut v) = sink.uncaptured.lock() {
+                    v.push(error_text(&e));
+                }
+            }));
+        }
+        {
+            let sink = sink.clone();
+            device.set_device_lost_callback(move |reason, message| {
+                if reason != wgpu::DeviceLostReason::Destroyed {
+                    if let Ok(mut l) = sink.lost.lock() {
+                        *l = Some(format!("{reason:?}: {message}"));
+                    }
+                }
+            });
+        }
+        let scopes = Scopes::push(&device);
+        let (render_bind_layout, render_layout) = layouts(&device, false);
+        let (eval_bind_layout, eval_layout) = layouts(&device, true);
+        let errors = scopes.pop();
+        if !errors.is_empty() {
+            return Err(RenderError::Device(errors.join("; ")));
+        }
+        Ok(Renderer {
+            limits: device.limits(),
+            device,
+            queue,
+            timestamps,
+            description: describe(info),
+            render_layout,
+            render_bind_layout,
+            eval_layout,
+            eval_bind_layout,
+            pipelines: Mutex::new(HashMap::new()),
+            compilations: AtomicUsize::new(0),
+            sink,
+        })
+    }
+
+    /// The adapter in use: name, backend, device type, driver.
+    pub fn adapter_description(&self) -> &AdapterDescription {
+        &self.description
+    }
+
+    /// How many compute pipelines this renderer has compiled (cache misses).
+    pub fn pipeline_compilations(&self) -> usize {
+        self.compilations.load(Ordering::Relaxed)
+    }
+
+    /// Whether the device times its work with timestamp queries ([`crate::Frame::device_time`]).
+    pub fn has_timestamps(&self) -> bool {
+        self.timestamps
+    }
+
+    /// The largest storage buffer one binding may hold, in bytes.
+    pub fn max_buffer_bytes(&self) -> u64 {
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
+    }
+
+    /// Fails if the device was lost or reported errors nobody's scope caught.
+    pub(crate) fn check_health(&self) -> Result<(), RenderError> {
+        if let Some(l) = self.sink.lost.lock().ok().and_then(|l| l.clone()) {
+            return Err(RenderError::DeviceLost(l));
+        }
+        let errors: Vec<String> = self
+            .sink
+            .uncaptured
+            .lock()
+            .map(|mut v| std::mem::take(&mut *v))
+            .unwrap_or_default();
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(RenderError::Device(errors.join("; ")))
+        }
+    }
+
+    /// Turns the errors of a piece of device work into a result.
+    pub(crate) fn finish(&self, errors: Vec<String>) -> Result<(), RenderError> {
+        self.check_health()?;
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(RenderError::Device(errors.join("; ")))
+        }
+    }
+
+    /// The compute pipeline of `wgsl`, compiled on first use and cached by the text's hash.
+    pub(crate) fn pipeline(
+        &self,
+        kind: Kind,
+        wgsl: &str,
+    ) -> Result<Arc<CachedPipeline>, RenderError> {
+        self.check_health()?;
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        kind.hash(&mut hasher);
+        wgsl.hash(&mut hasher);
+        let key = hasher.finish();
+        // Holding the lock while compiling keeps two threads from compiling the same text.
+        let mut cache = self
+            .pipelines
+            .lock()
+            .map_err(|_| RenderError::Device("the pipeline cache is poisoned".into()))?;
+        if let Some(p) = cache
+            .get(&key)
+            .and_then(|v| v.iter().find(|p| p.wgsl == wgsl))
+        {
+            return Ok(p.clone());
+        }
+        let (layout, entry) = match kind {
+            Kind::Render => (&self.render_layout, "main"),
+            Kind::Eval => (&self.eval_layout, "eval_main"),
+        };
+        self.compilations.fetch_add(1, Ordering::Relaxed);
+        let scopes = Scopes::push(&self.device);
+        let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
+            let module = self
+                .device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("sdfc scene"),
+                    source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                });
+            let info = pollster::block_on(module.get_compilation_info());
+            let messages: Vec<(String, String)> = info
+                .messages
+                .iter()
+                .filter(|m| m.message_type == wgpu::CompilationMessageType::Error)
+                .map(|m| {
+                    let text = match &m.location {
+                        Some(l) => {
+                            format!("{}:{}: {}", l.line_number, l.line_position, m.message)
+                        }
+                        None => m.message.clone(),
+                    };
+                    (m.message.clone(), text)
+                })
+                .collect();
+            let pipeline = self
+                .device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("sdfc scene"),
+                    layout: Some(layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+            (pipeline, messages)
+        }));
+        let mut errors = scopes.pop();
+        let pipeline = match built {
+            Ok((pipeline, messages)) => {
+                // The scopes usually caught the same message already.
+                for (message, text) in messages {
+                    if !errors.iter().any(|e| e.contains(message.trim())) {
+                        errors.push(text);
+                    }
+                }
+                pipeline
+            }
+            Err(panic) => {
+                let what = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_else(|| "a panic in wgpu".into());
+                return Err(RenderError::Shader(what));
+            }
+        };
+        self.check_health()
+            .map_err(|e| RenderError::Shader(e.to_string()))?;
+        if !errors.is_empty() {
+            return Err(RenderError::Shader(errors.join("; ")));
+        }
+        let p = Arc::new(CachedPipeline {
+            wgsl: wgsl.to_string(),
+            pipeline,
+        });
+        cache.entry(key).or_default().push(p.clone());
+        Ok(p)
+    }
+}

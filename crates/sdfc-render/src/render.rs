@@ -1,0 +1,303 @@
+//! One frame: uniform, dispatch, readback.
+
+use crate::device::{Kind, Renderer, Scopes};
+use crate::{params, Aovs, Frame, RenderError, RenderOptions};
+use sdfc_ir::Program;
+use sdfc_wgsl::Compiled;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+use wgpu::util::DeviceExt;
+
+/// Bytes per pixel of the colour buffer (one packed `u32`) and of the AOV buffer (two `vec4`).
+const COLOR_BYTES: u64 = 4;
+const AOV_BYTES: u64 = 32;
+/// The shader's workgroup size in x and y.
+const GROUP: u32 = 8;
+
+pub(crate) fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+pub(crate) fn readback(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Timestamp queries around a compute pass.
+pub(crate) struct Timer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    pub(crate) read: wgpu::Buffer,
+}
+
+impl Timer {
+    pub(crate) fn new(r: &Renderer) -> Option<Timer> {
+        if !r.timestamps {
+            return None;
+        }
+        let queries = r.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("sdfc timer"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2,
+        });
+        let resolve = r.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sdfc timer resolve"),
+            size: 16,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let read = readback(&r.device, "sdfc timer read", 16);
+        Some(Timer {
+            queries,
+            resolve,
+            read,
+        })
+    }
+
+    pub(crate) fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        }
+    }
+
+    pub(crate) fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.queries, 0..2, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.read, 0, 16);
+    }
+
+    /// The pass's duration, once `read` is mapped.
+    pub(crate) fn elapsed(&self, r: &Renderer) -> Option<Duration> {
+        let view = self.read.get_mapped_range(..).ok()?;
+        let begin = u64::from_le_bytes(view[0..8].try_into().ok()?);
+        let end = u64::from_le_bytes(view[8..16].try_into().ok()?);
+        drop(view);
+        self.read.unmap();
+        let ns = end.checked_sub(begin)? as f64 * r.queue.get_timestamp_period() as f64;
+        (ns.is_finite() && ns >= 0.0).then(|| Duration::from_nanos(ns as u64))
+    }
+}
+
+impl Renderer {
+    /// Renders a compiled scene.
+    pub fn render(&self, scene: &Compiled, opts: &RenderOptions) -> Result<Frame, RenderError> {
+        self.render_wgsl(scene.program(), &scene.wgsl, opts)
+    }
+
+    /// Renders `wgsl`, a full shader emitted for `program` (the program gives the params'
+    /// layout and defaults).
+    pub fn render_wgsl(
+        &self,
+        program: &Program,
+        wgsl: &str,
+        opts: &RenderOptions,
+    ) -> Result<Frame, RenderError> {
+        let params = params::values(program, &opts.params)?;
+        params::check_time(opts.time)?;
+        let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
+        let pipeline = self.pipeline(Kind::Render, wgsl)?;
+        let pixels = opts.width as u64 * opts.height as u64;
+        let color_size = pixels * COLOR_BYTES;
+        let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
+
+        let scopes = Scopes::push(&self.device);
+        let uniform = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sdfc frame"),
+                contents: &params::uniform_bytes(
+                    [
+                        opts.width,
+                        opts.height,
+                        opts.time.to_bits(),
+                        u32::from(opts.aovs),
+                    ],
+                    &params,
+                ),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let color = storage(&self.device, "sdfc colour", color_size);
+        let aov = storage(&self.device, "sdfc aovs", aov_size);
+        let color_read = readback(&self.device, "sdfc colour read", color_size);
+        let aov_read = opts
+            .aovs
+            .then(|| readback(&self.device, "sdfc aovs read", aov_size));
+        let timer = Timer::new(self);
+        let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sdfc frame bindings"),
+            layout: &self.render_bind_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: color.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: aov.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sdfc render"),
+            });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sdfc march"),
+                timestamp_writes: timer.as_ref().map(|t| t.writes()),
+            });
+            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        encoder.copy_buffer_to_buffer(&color, 0, &color_read, 0, color_size);
+        if let Some(read) = &aov_read {
+            encoder.copy_buffer_to_buffer(&aov, 0, read, 0, aov_size);
+        }
+        if let Some(t) = &timer {
+            t.resolve(&mut encoder);
+        }
+        let start = Instant::now();
+        self.queue.submit([encoder.finish()]);
+        let mut to_map = vec![&color_read];
+        to_map.extend(aov_read.as_ref());
+        to_map.extend(timer.as_ref().map(|t| &t.read));
+        let mapped = self.map_and_wait(&to_map);
+        let wall_time = start.elapsed();
+        self.finish(scopes.pop())?;
+        mapped?;
+
+        let rgba = read_bytes(&color_read)?;
+        let aovs = match &aov_read {
+            Some(read) => Some(decode_aovs(&read_bytes(read)?)),
+            None => None,
+        };
+        let device_time = timer.as_ref().and_then(|t| t.elapsed(self));
+        Ok(Frame {
+            width: opts.width,
+            height: opts.height,
+            rgba,
+            aovs,
+            device_time,
+            wall_time,
+        })
+    }
+
+    /// Checks an image size against the device's limits; returns the dispatch size.
+    fn check_size(&self, width: u32, height: u32, aovs: bool) -> Result<(u32, u32), RenderError> {
+        if width == 0 || height == 0 {
+            return Err(RenderError::ImageSize(format!(
+                "the image size {width}x{height} is empty"
+            )));
+        }
+        let (gx, gy) = (width.div_ceil(GROUP), height.div_ceil(GROUP));
+        let max_groups = self.limits.max_compute_workgroups_per_dimension;
+        if gx > max_groups || gy > max_groups {
+            return Err(RenderError::ImageSize(format!(
+                "a {width}x{height} image is too large for this device: it allows at most \
+                 {} pixels on a side",
+                max_groups as u64 * GROUP as u64
+            )));
+        }
+        let max = self.max_buffer_bytes();
+        let per_pixel = if aovs { AOV_BYTES } else { COLOR_BYTES };
+        let pixels = width as u64 * height as u64;
+        if pixels * per_pixel > max {
+            let side = ((max / per_pixel) as f64).sqrt() as u64;
+            return Err(RenderError::ImageSize(format!(
+                "a {width}x{height} image{} needs {} MiB in one buffer, and this device allows \
+                 at most {} MiB (about {side}x{side} pixels)",
+                if aovs { " with AOVs" } else { "" },
+                (pixels * per_pixel).div_ceil(1 << 20),
+                max >> 20
+            )));
+        }
+        Ok((gx, gy))
+    }
+
+    /// Maps each buffer for reading and waits until all are mapped (or failed).
+    ///
+    /// With threads sharing the device, another thread's poll may be the one that runs our
+    /// callbacks, a moment after our own poll returns: so wait for the callbacks themselves,
+    /// polling again now and then, until each has reported.
+    pub(crate) fn map_and_wait(&self, buffers: &[&wgpu::Buffer]) -> Result<(), RenderError> {
+        let (tx, rx) = mpsc::channel();
+        for (i, b) in buffers.iter().enumerate() {
+            let tx = tx.clone();
+            b.map_async(wgpu::MapMode::Read, .., move |r| {
+                let _ = tx.send((i, r));
+            });
+        }
+        drop(tx);
+        let mut done = 0;
+        while done < buffers.len() {
+            self.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| RenderError::Device(format!("waiting for the device: {e}")))?;
+            match rx.recv_timeout(Duration::from_millis(50)) {
+                Ok((i, r)) => {
+                    r.map_err(|e| RenderError::Device(format!("reading back buffer {i}: {e}")))?;
+                    done += 1;
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => self.check_health()?,
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    self.check_health()?;
+                    return Err(RenderError::Device(
+                        "the device dropped a read-back without finishing it".into(),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The contents of a mapped buffer; unmaps it.
+pub(crate) fn read_bytes(buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
+    let view = buffer
+        .get_mapped_range(..)
+        .map_err(|e| RenderError::Device(format!("reading back a buffer: {e}")))?;
+    let bytes = view.to_vec();
+    drop(view);
+    buffer.unmap();
+    Ok(bytes)
+}
+
+/// `(normal, depth), (steps, 0, 0, 0)` per pixel; depth -1 means a miss.
+fn decode_aovs(bytes: &[u8]) -> Aovs {
+    let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+    let n = bytes.len() / AOV_BYTES as usize;
+    let mut aovs = Aovs {
+        depth: Vec::with_capacity(n),
+        normal: Vec::with_capacity(n),
+        steps: Vec::with_capacity(n),
+    };
+    for px in bytes.chunks_exact(AOV_BYTES as usize) {
+        let d = f(&px[12..16]);
+        if d < 0.0 {
+            aovs.depth.push(f32::INFINITY);
+            aovs.normal.push([0.0; 3]);
+        } else {
+            aovs.depth.push(d);
+            aovs.normal
+                .push([f(&px[0..4]), f(&px[4..8]), f(&px[8..12])]);
+        }
+        aovs.steps.push(f(&px[16..20]));
+    }
+    aovs
+}

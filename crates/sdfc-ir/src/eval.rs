@@ -278,6 +278,7 @@ fn helper<T: Float>(h: Helper, a: &[Value<T>]) -> T {
             d[0].max(d[1]).min(zero) + length(&d.map(|x| x.max(zero)))
         }
         Helper::RotateX | Helper::RotateY | Helper::RotateZ => zero,
+        Helper::Noise => crate::noise::noise(p),
         Helper::SdCapsule => {
             let (ea, eb) = (v3(&a[1]), v3(&a[2]));
             let pa = [0, 1, 2].map(|i| p[i] - ea[i]);

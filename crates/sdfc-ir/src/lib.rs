@@ -9,6 +9,7 @@ pub mod func;
 pub mod graph;
 mod hash;
 pub mod lower;
+pub mod noise;
 pub mod ops;
 pub mod passes;
 pub mod scene;

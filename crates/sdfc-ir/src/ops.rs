@@ -170,6 +170,8 @@ pub enum Helper {
     RotateY,
     /// `(p, c, s)`, about z.
     RotateZ,
+    /// `(p)`: 3D gradient noise in [-1, 1] (`shaders/noise.wgsl`).
+    Noise,
 }
 
 impl Helper {
@@ -183,6 +185,7 @@ impl Helper {
         Helper::RotateX,
         Helper::RotateY,
         Helper::RotateZ,
+        Helper::Noise,
     ];
 
     /// The WGSL function name.
@@ -197,6 +200,7 @@ impl Helper {
             Helper::RotateX => "rotate_x",
             Helper::RotateY => "rotate_y",
             Helper::RotateZ => "rotate_z",
+            Helper::Noise => "noise",
         }
     }
 }

@@ -139,6 +139,12 @@ fn math_builtins_and_lambdas() {
     corpus("tests/scenes/lambdas_sdf_displace.sdf", 8);
 }
 
+/// Noise hashes integers bit for bit on both sides; only the float arithmetic may differ.
+#[test]
+fn noise_and_fbm() {
+    corpus("tests/scenes/noise_fbm.sdf", 10);
+}
+
 #[test]
 fn params_and_time() {
     let compiled = compile_file("tests/scenes/params_time.sdf");

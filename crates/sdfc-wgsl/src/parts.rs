@@ -13,6 +13,7 @@ pub fn helper(h: Helper) -> &'static str {
         Helper::RotateX => include_str!("../../../shaders/transforms/rotate_x.wgsl"),
         Helper::RotateY => include_str!("../../../shaders/transforms/rotate_y.wgsl"),
         Helper::RotateZ => include_str!("../../../shaders/transforms/rotate_z.wgsl"),
+        Helper::Noise => include_str!("../../../shaders/noise.wgsl"),
     }
 }
 

@@ -4,6 +4,7 @@ use super::scope::{Scope, Val};
 use super::{Lowerer, Reported, R};
 use crate::ops::{Builtin, Op};
 use crate::types::Ty;
+use crate::value::Value;
 use sdfc_syntax::ast::{Arg, Ident};
 use sdfc_syntax::diag::{nearest, Diagnostic};
 use sdfc_syntax::span::Span;
@@ -61,8 +62,6 @@ pub const NOT_YET: &[&str] = &[
     "twist",
     "bend",
     "warp",
-    "noise",
-    "fbm",
 ];
 
 /// The math built-ins users may call (`round` is the shape operation, not WGSL's).
@@ -70,9 +69,13 @@ fn user_math(name: &str) -> Option<Builtin> {
     Builtin::from_name(name).filter(|b| *b != Builtin::Round)
 }
 
+/// Built-ins beyond WGSL's: gradient noise and its fractal sum.
+const NOISE_FUNCTIONS: &[&str] = &["noise", "fbm"];
+
 pub fn is_builtin_function(name: &str) -> bool {
     user_math(name).is_some()
         || name == "select"
+        || NOISE_FUNCTIONS.contains(&name)
         || SHAPE_FUNCTIONS.contains(&name)
         || NOT_YET.contains(&name)
 }
@@ -84,6 +87,7 @@ fn all_function_names() -> Vec<&'static str> {
         .map(|b| b.name())
         .collect();
     v.push("select");
+    v.extend(NOISE_FUNCTIONS);
     v.extend(SHAPE_FUNCTIONS);
     v.extend(NOT_YET);
     v
@@ -103,6 +107,9 @@ impl<'a> Lowerer<'a> {
         }
         if name == "select" {
             return self.select_call(args, span, scope);
+        }
+        if NOISE_FUNCTIONS.contains(&name) {
+            return self.noise_call(name, args, span, scope);
         }
         if SHAPE_FUNCTIONS.contains(&name) {
             return self.shape_call(callee, args, span, scope);
@@ -281,6 +288,106 @@ impl<'a> Lowerer<'a> {
             ));
         }
         Ok(Val::Num(self.g.add(Op::Select, &[a, b, c.0], span)))
+    }
+}
+
+impl<'a> Lowerer<'a> {
+    /// `noise(p)` and `fbm(p, octaves: 5, lacunarity: 2, gain: 0.5)`: the octaves are
+    /// unrolled, each `gain` times the amplitude and `lacunarity` times the frequency of the
+    /// one before, and the sum is divided by the total amplitude so it stays in [-1, 1].
+    fn noise_call(
+        &mut self,
+        name: &str,
+        args: &'a [Arg],
+        span: Span,
+        scope: &Rc<Scope<'a>>,
+    ) -> R<Val<'a>> {
+        let (sig, names, required): (&str, &[&str], usize) = if name == "noise" {
+            ("noise(p)", &["p"], 1)
+        } else {
+            (
+                "fbm(p, octaves: 5, lacunarity: 2, gain: 0.5)",
+                &["p", "octaves", "lacunarity", "gain"],
+                1,
+            )
+        };
+        let b = self.bind_args(name, sig, names, required, args, span)?;
+        let pe = b[0].ok_or(Reported)?;
+        let p = match self.expr(pe, scope)? {
+            Val::Num(n) if self.g.ty(n) == Ty::Vec3 => n,
+            Val::Poison => return Err(Reported),
+            other => {
+                let d = self.describe(&other);
+                return Err(self.error(
+                    Diagnostic::error(pe.span, format!("`{name}` takes a vec3 point, found {d}"))
+                        .with_label("expected a vec3")
+                        .with_hint("inside a lambda, pass its point: `noise(p * 4)`"),
+                ));
+            }
+        };
+        let noise = |g: &mut crate::graph::Graph, q| {
+            g.add(Op::Helper(crate::ops::Helper::Noise), &[q], span)
+        };
+        if name == "noise" {
+            return Ok(Val::Num(noise(&mut self.g, p)));
+        }
+        let octaves = match b[1] {
+            None => 5,
+            Some(e) => match self.const_value(e, scope, "`octaves`")? {
+                Value::F(x) if x.fract() == 0.0 && (1.0..=16.0).contains(&x) => x as u32,
+                v => {
+                    return Err(self.error(
+                        Diagnostic::error(
+                            e.span,
+                            format!(
+                                "`octaves` must be a whole number from 1 to 16, found {}",
+                                crate::dump::const_text(&v)
+                            ),
+                        )
+                        .with_label("invalid octave count"),
+                    ))
+                }
+            },
+        };
+        let number = |this: &mut Self,
+                      e: Option<&'a sdfc_syntax::ast::Expr>,
+                      default: f32,
+                      what: &str|
+         -> R<crate::graph::NodeId> {
+            match e {
+                None => Ok(this.g.f32(default)),
+                Some(e) => match this.expr(e, scope)? {
+                    Val::Num(n) if this.g.ty(n) == Ty::F32 => Ok(n),
+                    Val::Poison => Err(Reported),
+                    other => {
+                        let d = this.describe(&other);
+                        Err(this.error(
+                            Diagnostic::error(
+                                e.span,
+                                format!("{what} must be a number, found {d}"),
+                            )
+                            .with_label("expected a number"),
+                        ))
+                    }
+                },
+            }
+        };
+        let lacunarity = number(self, b[2], 2.0, "`lacunarity`")?;
+        let gain = number(self, b[3], 0.5, "`gain`")?;
+        let mut freq = self.g.f32(1.0);
+        let mut amp = self.g.f32(1.0);
+        let mut sum = self.g.f32(0.0);
+        let mut total = self.g.f32(0.0);
+        for _ in 0..octaves {
+            let q = self.g.add(Op::Mul, &[p, freq], span);
+            let n = noise(&mut self.g, q);
+            let term = self.g.add(Op::Mul, &[n, amp], span);
+            sum = self.g.add(Op::Add, &[sum, term], span);
+            total = self.g.add(Op::Add, &[total, amp], span);
+            freq = self.g.add(Op::Mul, &[freq, lacunarity], span);
+            amp = self.g.add(Op::Mul, &[amp, gain], span);
+        }
+        Ok(Val::Num(self.g.add(Op::Div, &[sum, total], span)))
     }
 }
 

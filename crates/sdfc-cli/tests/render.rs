@@ -543,3 +543,47 @@ fn eval_gpu_agrees_with_the_reference() {
     )
     .expect_code(1);
 }
+
+/// The fallback a fresh machine has: software GL (llvmpipe) renders the same picture as the
+/// default device, within the golden images' tolerance (3/255 per channel, at most 1% of
+/// pixels beyond it).
+#[test]
+fn software_gl_renders_the_same_picture() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("gl");
+    let scene = t.write("spec.sdf", SPEC_SCENE_FOR_GL);
+    let (a, b) = (t.path("default.png"), t.path("gl.png"));
+    sdfc_in(&t.0, &["render", s(&scene), "-o", s(&a), "--size", "64x48"]).expect_code(0);
+    let run = sdfc_env(
+        &t.0,
+        &["render", s(&scene), "-o", s(&b), "--size", "64x48"],
+        &[("SDFC_BACKEND", "gl")],
+    );
+    if run.code != 0 && std::env::var("CI").is_err() {
+        eprintln!("SKIPPED: no software GL adapter here:\n{}", run.describe());
+        return;
+    }
+    assert_eq!(run.code, 0, "{}", run.describe());
+    assert!(run.stderr.contains("Gl"), "{}", run.describe());
+    let (a, b) = (read_png(&a), read_png(&b));
+    let off = a
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0.iter()).any(|(x, y)| x.abs_diff(*y) > 3))
+        .count();
+    assert!(
+        off * 100 <= (64 * 48),
+        "{off} pixels differ by more than 3/255"
+    );
+}
+
+const SPEC_SCENE_FOR_GL: &str =
+    "material red { color: [0.9, 0.2, 0.15], specular: 0.6, shininess: 48 }
+camera { position: [0, 1.5, 5], target: [0, 0.5, 0], fov: 50deg }
+light point { position: [4, 6, -3], intensity: 1.2 }
+render { shadows: soft(16), ao: ao(), reflections: 1, background: [0.55, 0.7, 0.9] }
+scene = union(sphere(1), box(1.4).rotate_y(30deg), smooth: 0.3).material(red).translate([0, 1, 0])
+      | plane([0, 1, 0], 0);
+";

@@ -2,7 +2,7 @@
 //! with `--gpu` through the emitted WGSL on the wgpu device.
 
 use crate::render::{open_renderer, param_overrides, render_failure, to_f32};
-use crate::{read_source, report, Outcome};
+use crate::{load_scene, Outcome};
 use sdfc_ir::eval::{eval_func, Inputs};
 use sdfc_ir::value::Value;
 use std::path::PathBuf;
@@ -26,14 +26,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
-    let path = a.scene.display().to_string();
-    let source = match read_source(&a.scene) {
-        Ok(s) => s,
-        Err(o) => return o,
-    };
-    let compiled = match sdfc_wgsl::compile(&source, &sdfc_wgsl::Options::default()) {
+    let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
         Ok(c) => c,
-        Err(f) => return report::failure(&path, &source, &f),
+        Err(o) => return o,
     };
     let program = compiled.program();
     let overrides = match param_overrides(program, &a.params) {

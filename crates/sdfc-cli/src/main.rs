@@ -93,3 +93,20 @@ pub fn read_source(path: &PathBuf) -> Result<String, Outcome> {
         }
     }
 }
+
+/// Reads and compiles a scene file, printing its warnings; on failure the diagnostics are
+/// printed and the outcome to exit with comes back.
+pub fn load_scene(
+    path: &PathBuf,
+    opts: &sdfc_wgsl::Options,
+) -> Result<sdfc_wgsl::Compiled, Outcome> {
+    let name = path.display().to_string();
+    let source = read_source(path)?;
+    match sdfc_wgsl::compile(&source, opts) {
+        Ok(c) => {
+            report::diagnostics(&name, &source, &c.warnings);
+            Ok(c)
+        }
+        Err(f) => Err(report::failure(&name, &source, &f)),
+    }
+}

@@ -1,6 +1,6 @@
 //! `sdfc render`: a scene to a PNG, or one of its float AOVs to EXR / NPY, on the wgpu device.
 
-use crate::{read_source, report, Outcome};
+use crate::{load_scene, Outcome};
 use sdfc_ir::Program;
 use sdfc_render::output::{self, FloatFormat};
 use sdfc_render::{AovKind, RenderError, RenderOptions, Renderer};
@@ -172,16 +172,10 @@ pub fn run(a: Args) -> Outcome {
         eprintln!("error: --time must be finite, found {}", a.time);
         return Outcome::EnvError;
     }
-    let path = a.scene.display().to_string();
-    let source = match read_source(&a.scene) {
-        Ok(s) => s,
+    let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
+        Ok(c) => c,
         Err(o) => return o,
     };
-    let compiled = match sdfc_wgsl::compile(&source, &sdfc_wgsl::Options::default()) {
-        Ok(c) => c,
-        Err(f) => return report::failure(&path, &source, &f),
-    };
-    report::diagnostics(&path, &source, &compiled.warnings);
     let params = match param_overrides(compiled.program(), &a.params) {
         Ok(p) => to_f32(&p),
         Err(o) => return o,

@@ -2,9 +2,10 @@
 //! outputs, files written, exit statuses (0 ok, 1 a problem in the input, 2 usage or
 //! environment), and never a panic or a backtrace. `render` has its own tests in `render.rs`; `bench` is not built yet.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
+mod common;
+
+use common::{s, sdfc_in, Run, TempDir};
+use std::path::Path;
 
 const SPEC_SECTION10: &str = "\
 // The tutorials' sphere-and-box studies, with light, shadow and a floor.
@@ -27,102 +28,6 @@ scene = blob.material(red).translate([0, 1, 0])
 const SPHERE: &str = "scene = sphere(1);\n";
 const PARAM_SPHERE: &str = "param r = 1;\nparam c = [0, 0, 0];\nscene = sphere(r).translate(c);\n";
 const BROKEN: &str = "let r = 1;\nscene = spher(r);\n";
-
-/// A fresh, empty directory under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir =
-            std::env::temp_dir().join(format!("sdfc-cli-test-{}-{n}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-        TempDir(dir)
-    }
-
-    fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, contents).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        path
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-impl Run {
-    fn describe(&self) -> String {
-        format!(
-            "exit {}\n--- stdout ---\n{}\n--- stderr ---\n{}",
-            self.code, self.stdout, self.stderr
-        )
-    }
-
-    fn expect_code(self, code: i32) -> Run {
-        assert_eq!(
-            self.code,
-            code,
-            "unexpected exit status:\n{}",
-            self.describe()
-        );
-        self
-    }
-}
-
-/// Runs `sdfc` in `dir` with `args`; checks that nothing looks like a panic or a backtrace.
-fn sdfc_in(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_sdfc"))
-        .args(args)
-        .current_dir(dir)
-        .env("NO_COLOR", "1")
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run sdfc: {e}"));
-    let run = Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    for bad in [
-        "panicked",
-        "RUST_BACKTRACE",
-        "stack backtrace",
-        "internal error",
-    ] {
-        assert!(
-            !run.stdout.contains(bad) && !run.stderr.contains(bad),
-            "`sdfc {}` printed `{bad}`:\n{}",
-            args.join(" "),
-            run.describe()
-        );
-    }
-    assert!(
-        matches!(run.code, 0..=2),
-        "`sdfc {}` exited with {} (killed by a signal?):\n{}",
-        args.join(" "),
-        run.code,
-        run.describe()
-    );
-    run
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("temp paths are UTF-8")
-}
 
 fn validate(wgsl: &str) {
     if let Err(report) = sdfc_wgsl::validate::validate("out.wgsl", wgsl) {

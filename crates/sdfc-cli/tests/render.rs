@@ -2,116 +2,16 @@
 //! They need a wgpu adapter (a GPU, or Mesa's software Vulkan): without one they are skipped
 //! with a printed reason, except on CI (`CI=true`), where they fail.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
+mod common;
+
+use common::{s, sdfc_env, sdfc_in, Run, TempDir};
+use std::path::Path;
 use std::sync::OnceLock;
 
 const SPHERE: &str = "scene = sphere(1);\n";
 const PARAM_SPHERE: &str = "param r = 1;\nparam c = [0, 0, 0];\nscene = sphere(r).translate(c);\n";
 const MOVING: &str = "scene = sphere(1).translate([time, 0, 0]);\n";
 const BROKEN: &str = "let r = 1;\nscene = spher(r);\n";
-
-/// A fresh, empty directory under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir =
-            std::env::temp_dir().join(format!("sdfc-render-cli-{}-{n}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-        TempDir(dir)
-    }
-
-    fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, contents).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        path
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-impl Run {
-    fn describe(&self) -> String {
-        format!(
-            "exit {}\n--- stdout ---\n{}\n--- stderr ---\n{}",
-            self.code, self.stdout, self.stderr
-        )
-    }
-
-    fn expect_code(self, code: i32) -> Run {
-        assert_eq!(
-            self.code,
-            code,
-            "unexpected exit status:\n{}",
-            self.describe()
-        );
-        self
-    }
-}
-
-fn sdfc_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sdfc"));
-    cmd.args(args).current_dir(dir).env("NO_COLOR", "1");
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run sdfc: {e}"));
-    let run = Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    for bad in [
-        "panicked",
-        "RUST_BACKTRACE",
-        "stack backtrace",
-        "internal error",
-    ] {
-        assert!(
-            !run.stdout.contains(bad) && !run.stderr.contains(bad),
-            "`sdfc {}` printed `{bad}`:\n{}",
-            args.join(" "),
-            run.describe()
-        );
-    }
-    assert!(
-        matches!(run.code, 0..=2),
-        "`sdfc {}` exited with {}:\n{}",
-        args.join(" "),
-        run.code,
-        run.describe()
-    );
-    run
-}
-
-fn sdfc_in(dir: &Path, args: &[&str]) -> Run {
-    sdfc_env(dir, args, &[])
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("temp paths are UTF-8")
-}
 
 /// Whether `sdfc render` finds a device here. Without one: skip (printing why), or fail on CI.
 fn have_device() -> bool {

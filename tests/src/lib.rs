@@ -20,6 +20,36 @@ pub fn corpus(folder: &str) -> Vec<PathBuf> {
     v
 }
 
+/// A corpus file: its name without `.sdf`, path and text.
+pub struct CorpusFile {
+    pub stem: String,
+    pub path: PathBuf,
+    pub source: String,
+}
+
+/// Reads every `.sdf` file of a corpus folder under `tests/`, which must hold at least `min`.
+pub fn read_corpus(folder: &str, min: usize) -> Vec<CorpusFile> {
+    let paths = corpus(folder);
+    assert!(
+        paths.len() >= min,
+        "expected the corpus in tests/{folder}, found {} files",
+        paths.len()
+    );
+    paths
+        .into_iter()
+        .map(|path| {
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or_else(|| panic!("{}: file name is not UTF-8", path.display()))
+                .to_string();
+            let source = std::fs::read_to_string(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            CorpusFile { stem, path, source }
+        })
+        .collect()
+}
+
 /// A generated scene of `n` shapes (spheres, boxes and tori on a grid, rotated, in three
 /// materials) in one flat `union`: the compile-time benchmark's input and the large-scene
 /// tests' too.

@@ -17,22 +17,10 @@ struct Case {
 }
 
 fn cases() -> Vec<Case> {
-    let paths = sdfc_tests::corpus("errors");
-    assert!(
-        paths.len() >= 25,
-        "expected the error corpus in tests/errors, found {} files",
-        paths.len()
-    );
-    paths
+    sdfc_tests::read_corpus("errors", 25)
         .into_iter()
-        .map(|path| {
-            let stem = path
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or_else(|| panic!("{}: file name is not UTF-8", path.display()))
-                .to_string();
-            let source = std::fs::read_to_string(&path)
-                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        .map(|f| {
+            let (path, source, stem) = (f.path, f.source, f.stem);
             let expect = match source.lines().find_map(|l| l.strip_prefix("// expect: ")) {
                 Some(e) => e.to_string(),
                 None if source.is_empty() => "the file has no `scene` item".to_string(),

@@ -17,23 +17,12 @@ struct Scene {
 }
 
 fn scenes() -> Vec<Scene> {
-    let paths = sdfc_tests::corpus("scenes");
-    assert!(
-        paths.len() >= 12,
-        "expected the scene corpus in tests/scenes, found {} files",
-        paths.len()
-    );
-    paths
+    sdfc_tests::read_corpus("scenes", 12)
         .into_iter()
-        .map(|path| {
-            let stem = path
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or_else(|| panic!("{}: file name is not UTF-8", path.display()))
-                .to_string();
-            let source = std::fs::read_to_string(&path)
-                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            Scene { stem, path, source }
+        .map(|f| Scene {
+            stem: f.stem,
+            path: f.path,
+            source: f.source,
         })
         .collect()
 }

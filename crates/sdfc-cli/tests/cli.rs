@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{s, sdfc_in, Run, TempDir};
+use common::{eval_lines, s, sdfc_in, TempDir};
 use std::path::Path;
 
 const SPEC_SECTION10: &str = "\
@@ -286,16 +286,6 @@ fn check_without_files_is_a_usage_error() {
 }
 
 // ---- eval ----
-
-fn eval_lines(run: &Run) -> Vec<f64> {
-    run.stdout
-        .lines()
-        .map(|l| {
-            l.parse::<f64>()
-                .unwrap_or_else(|e| panic!("`{l}` is not a number ({e}):\n{}", run.describe()))
-        })
-        .collect()
-}
 
 #[test]
 fn eval_prints_exact_distances() {

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{s, sdfc_env, sdfc_in, Run, TempDir};
+use common::{eval_lines, s, sdfc_env, sdfc_in, TempDir};
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -390,16 +390,6 @@ fn unwritable_output_is_an_environment_error() {
 
 // ---- eval --gpu ----
 
-fn lines(run: &Run) -> Vec<f64> {
-    run.stdout
-        .lines()
-        .map(|l| {
-            l.parse::<f64>()
-                .unwrap_or_else(|e| panic!("`{l}` is not a number ({e}):\n{}", run.describe()))
-        })
-        .collect()
-}
-
 #[test]
 fn eval_gpu_agrees_with_the_reference() {
     if !have_device() {
@@ -414,10 +404,10 @@ fn eval_gpu_agrees_with_the_reference() {
     for extra in [vec![], vec!["--param", "r=0.5", "--param", "c=0.25,0,1"]] {
         let mut args = vec!["eval", s(&scene), "--points", s(&pts)];
         args.extend(extra.iter().copied());
-        let cpu = lines(&sdfc_in(&t.0, &args).expect_code(0));
+        let cpu = eval_lines(&sdfc_in(&t.0, &args).expect_code(0));
         args.push("--gpu");
         let run = sdfc_in(&t.0, &args).expect_code(0);
-        let gpu = lines(&run);
+        let gpu = eval_lines(&run);
         assert_eq!(gpu.len(), cpu.len(), "{}", run.describe());
         for (g, c) in gpu.iter().zip(&cpu) {
             assert!((g - c).abs() <= 1e-5 * c.abs() + 2e-6, "gpu {g} vs cpu {c}");

@@ -109,3 +109,14 @@ pub fn sdfc_in(dir: &Path, args: &[&str]) -> Run {
 pub fn s(p: &Path) -> &str {
     p.to_str().expect("temp paths are UTF-8")
 }
+
+/// The numbers `sdfc eval` printed, one per line.
+pub fn eval_lines(run: &Run) -> Vec<f64> {
+    run.stdout
+        .lines()
+        .map(|l| {
+            l.parse::<f64>()
+                .unwrap_or_else(|e| panic!("`{l}` is not a number ({e}):\n{}", run.describe()))
+        })
+        .collect()
+}

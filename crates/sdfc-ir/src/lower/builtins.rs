@@ -312,19 +312,8 @@ impl<'a> Lowerer<'a> {
             )
         };
         let b = self.bind_args(name, sig, names, required, args, span)?;
-        let pe = b[0].ok_or(Reported)?;
-        let p = match self.expr(pe, scope)? {
-            Val::Num(n) if self.g.ty(n) == Ty::Vec3 => n,
-            Val::Poison => return Err(Reported),
-            other => {
-                let d = self.describe(&other);
-                return Err(self.error(
-                    Diagnostic::error(pe.span, format!("`{name}` takes a vec3 point, found {d}"))
-                        .with_label("expected a vec3")
-                        .with_hint("inside a lambda, pass its point: `noise(p * 4)`"),
-                ));
-            }
-        };
+        let what = format!("the point of `{name}`");
+        let p = self.arg_vec3(b[0].ok_or(Reported)?, scope, &what)?;
         let noise = |g: &mut crate::graph::Graph, q| {
             g.add(Op::Helper(crate::ops::Helper::Noise), &[q], span)
         };

@@ -724,7 +724,7 @@ impl<'a> Lowerer<'a> {
         Ok(())
     }
 
-    fn arg_vec3(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
+    pub(super) fn arg_vec3(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
         match self.expr(e, scope)? {
             Val::Num(n) if self.g.ty(n) == Ty::Vec3 => self.check_finite(n, e.span, what),
             Val::Poison => Err(Reported),

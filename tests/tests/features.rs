@@ -24,7 +24,7 @@ const SCENE: &str = "sphere(1) | plane([0, 1, 0], -1)";
 fn each_feature_adds_its_code_and_only_then() {
     let base = wgsl("", SCENE);
     let features: &[(&str, &[&str])] = &[
-        ("shadows: hard", &["fn shadow(", "let lit = shadow("]),
+        ("shadows: hard", &["fn shadow(", "lit = shadow("]),
         (
             "shadows: soft(8)",
             &["fn shadow(", "const SHADOW_K: f32 = 8.0;"],

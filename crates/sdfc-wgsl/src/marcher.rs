@@ -163,24 +163,27 @@ fn shade(scene: &Scene) -> String {
     for (i, light) in scene.lights.iter().enumerate() {
         let radiance: Vec<f32> = light.color.iter().map(|c| c * light.intensity).collect();
         let _ = writeln!(s, "    {{");
-        match &light.kind {
+        let tmax = match &light.kind {
             LightKind::Directional { direction } => {
                 let _ = writeln!(s, "        // light {i}: directional");
                 let _ = writeln!(s, "        let l = {};", vec3(direction.map(|x| -x)));
-                if shadows {
-                    let _ = writeln!(s, "        let lit = shadow(origin, l, MAX_DISTANCE);");
-                }
+                "MAX_DISTANCE"
             }
             LightKind::Point { position } => {
                 let _ = writeln!(s, "        // light {i}: point");
                 let _ = writeln!(s, "        let to_light = {} - p;", vec3(*position));
                 let _ = writeln!(s, "        let l = safe_normalize(to_light);");
-                if shadows {
-                    let _ = writeln!(s, "        let lit = shadow(origin, l, length(to_light));");
-                }
+                "length(to_light)"
             }
-        }
+        };
         let _ = writeln!(s, "        let diffuse = max(dot(n, l), 0.0);");
+        if shadows {
+            // A surface facing away from the light gets nothing from it: no shadow ray then.
+            let _ = writeln!(s, "        var lit = 0.0;");
+            let _ = writeln!(s, "        if diffuse > 0.0 {{");
+            let _ = writeln!(s, "            lit = shadow(origin, l, {tmax});");
+            let _ = writeln!(s, "        }}");
+        }
         let _ = writeln!(s, "        let r = reflect(-l, n);");
         let _ = writeln!(s, "        let specular = select(0.0, pow(max(dot(r, -rd), 1e-6), m.phong.w), diffuse > 0.0);");
         let lit = if shadows { "lit * " } else { "" };

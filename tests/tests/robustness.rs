@@ -169,3 +169,21 @@ proptest! {
         check(&src)?;
     }
 }
+
+/// Inputs the fuzzer (`fuzz/`, `cargo fuzz run compile`) once found to break the compiler:
+/// each must now compile or be rejected with diagnostics, never fail internally.
+#[test]
+fn fuzzer_findings_stay_fixed() {
+    let found = sdfc_tests::corpus("regressions");
+    assert!(!found.is_empty(), "tests/regressions is empty");
+    for path in found {
+        let source =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        match sdfc_wgsl::compile(&source, &Options::default()) {
+            Ok(_) | Err(Failure::Diagnostics(_)) => {}
+            Err(Failure::Internal { report, .. }) => {
+                panic!("{}: internal error\n{report}", path.display())
+            }
+        }
+    }
+}

@@ -291,8 +291,11 @@ fn infer_builtin(b: Builtin, a: &[Ty]) -> Option<Ty> {
     }
     let same = a.iter().all(|t| *t == a[0]);
     match b {
-        Length | Normalize => Some(if b == Length { F32 } else { a[0] }),
-        Distance | Dot => same.then_some(F32),
+        Length => Some(F32),
+        Distance => same.then_some(F32),
+        // WGSL defines `normalize` and `dot` on vectors only.
+        Normalize => (a[0] != F32).then_some(a[0]),
+        Dot => (same && a[0] != F32).then_some(F32),
         Cross => (a == [Vec3, Vec3]).then_some(Vec3),
         // WGSL's mix, step and smoothstep take the same type throughout (we splat scalars).
         _ => same.then_some(a[0]),

@@ -389,7 +389,10 @@ fn math_signature(b: Builtin) -> String {
         Builtin::Mix => &["a", "b", "t"],
         Builtin::Step => &["edge", "x"],
         Builtin::Smoothstep => &["lo", "hi", "x"],
-        Builtin::Distance | Builtin::Dot | Builtin::Cross => &["a", "b"],
+        Builtin::Distance => &["a", "b"],
+        Builtin::Dot => &["a: vector", "b: vector of the same size"],
+        Builtin::Cross => &["a: vec3", "b: vec3"],
+        Builtin::Normalize => &["v: vector"],
         _ => &["x"],
     };
     format!("{}({})", b.name(), names.join(", "))

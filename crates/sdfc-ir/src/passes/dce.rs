@@ -1,6 +1,6 @@
 //! Dead code elimination: keeps only the nodes the function's results depend on.
 
-use super::{copy, rebuild};
+use super::cse::{copy, rebuild};
 use crate::func::Func;
 
 pub fn run(f: &Func) -> Func {

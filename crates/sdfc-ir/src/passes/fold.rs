@@ -3,9 +3,7 @@
 //! transcendental functions are computed in f64 and rounded once, at least as accurate as any
 //! GPU). A result that is not finite is an error at the node's span.
 
-use super::{copy, rebuild};
 use crate::eval;
-use crate::func::Func;
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
 use crate::ops::Op;
@@ -14,30 +12,6 @@ use sdfc_syntax::span::Span;
 
 /// The message for a constant that folds to infinity or NaN.
 pub const NON_FINITE: &str = "this constant expression is not finite (infinity or NaN)";
-
-/// Folds every node whose arguments are constants, on its own (the pipeline runs folding and
-/// simplification in one walk: see [`super::optimise`]).
-pub fn run(f: &Func) -> (Func, Vec<(Span, String)>) {
-    let mut errors = Vec::new();
-    let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
-        if let Some(v) = fold_one(out, node.op, node.ty, args) {
-            if v.all_finite() {
-                return out.konst(v);
-            }
-            errors.push((f.graph.span(id), NON_FINITE.to_string()));
-        }
-        copy(out, &f.graph, id, node, args)
-    });
-    (
-        Func {
-            name: f.name.clone(),
-            kind: f.kind,
-            graph,
-            results,
-        },
-        errors,
-    )
-}
 
 /// The folded value of `op` on `args` if every argument is a constant and `op` is pure.
 pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Option<Value<f32>> {

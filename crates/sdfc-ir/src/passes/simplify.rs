@@ -3,24 +3,10 @@
 //! `x * 1`, `x / 1`, `x + 0`, `x - 0`, `-(-x)`, `x + -y`, `min(x, x)`, `select(a, a, c)`,
 //! selects on a constant condition, identity swizzles and matrices, and the like.
 
-use super::{copy, rebuild};
-use crate::func::Func;
 use crate::graph::{Graph, NodeId};
 use crate::ops::{Builtin, Op, Swizzle};
 use crate::types::Ty;
 use crate::value::Value;
-
-pub fn run(f: &Func) -> Func {
-    let (graph, results) = rebuild(&f.graph, &f.results, true, |out, id, node, args| {
-        simplify(out, node.op, args).unwrap_or_else(|| copy(out, &f.graph, id, node, args))
-    });
-    Func {
-        name: f.name.clone(),
-        kind: f.kind,
-        graph,
-        results,
-    }
-}
 
 /// Whether every component of constant `n` equals `x`.
 fn is_splat(g: &Graph, n: NodeId, x: f32) -> bool {

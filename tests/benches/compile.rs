@@ -1,7 +1,8 @@
 //! Compile time from scene text to validated WGSL for scenes of 10, 1 000 and 5 000 shapes,
-//! and the share of each stage at 5 000. Run: `cargo bench -p sdfc-tests --bench compile`.
+//! and the share of each stage at 5 000; and inputs at the documented limits (a 1 MiB flat
+//! union, a scene of doubling `let`s). Run: `cargo bench -p sdfc-tests --bench compile`.
 
-use sdfc_tests::grid_scene;
+use sdfc_tests::{doubling_lets, grid_scene, max_size_union};
 use sdfc_wgsl::Options;
 
 fn main() {
@@ -45,4 +46,18 @@ fn stage_validate_5000(bencher: divan::Bencher) {
     let src = grid_scene(5000);
     let wgsl = sdfc_wgsl::compile(&src, &Options::default()).unwrap().wgsl;
     bencher.bench(|| sdfc_wgsl::validate::validate("bench.wgsl", divan::black_box(&wgsl)).is_ok());
+}
+
+/// A file at the size limit (about 28 000 spheres in one union).
+#[divan::bench(sample_count = 5)]
+fn limit_max_size_union(bencher: divan::Bencher) {
+    let src = max_size_union(sdfc_syntax::MAX_SOURCE_BYTES);
+    bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &Options::default()).is_ok());
+}
+
+/// 15 doubling `let`s: 98 000 shapes unfolded, one outlined function per `let`.
+#[divan::bench(sample_count = 5)]
+fn limit_doubling_lets(bencher: divan::Bencher) {
+    let src = doubling_lets(15);
+    bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &Options::default()).is_ok());
 }

@@ -1,5 +1,7 @@
 //! Shared helpers for the golden and end-to-end tests: where the corpus lives.
 
+pub mod random_scene;
+
 use std::path::PathBuf;
 
 /// The `tests/` folder of the repository.
@@ -85,4 +87,39 @@ pub fn grid_scene(n: usize) -> String {
     }
     s += ");\n";
     s
+}
+
+/// One flat `union` of translated spheres, as many as fit in `max_bytes` of source: the
+/// largest scene of the simplest kind a file at the size limit can hold.
+pub fn max_size_union(max_bytes: usize) -> String {
+    let mut src = String::from("scene = union(\n");
+    let mut n = 0;
+    loop {
+        let item = format!(
+            "  sphere(0.5).translate([{}, {}, {}]),\n",
+            n % 100,
+            (n / 100) % 100,
+            n / 10_000
+        );
+        if src.len() + item.len() + 4 > max_bytes {
+            break;
+        }
+        src += &item;
+        n += 1;
+    }
+    src + ");\n"
+}
+
+/// `let s_k = union(s_{k-1}, s_{k-1}.translate([k, 0, 0]))` for `levels` lines: a file of a
+/// few hundred bytes whose scene unfolds into about 3 * 2^levels shapes.
+pub fn doubling_lets(levels: usize) -> String {
+    let mut s = String::from("let s0 = sphere(0.25);\n");
+    for k in 1..=levels {
+        s += &format!(
+            "let s{k} = union(s{}, s{}.translate([{k}, 0, 0]));\n",
+            k - 1,
+            k - 1
+        );
+    }
+    s + &format!("scene = s{levels};\n")
 }

@@ -55,6 +55,10 @@ fn eval_graph_in<T: Float>(
             }
         }
     }
+    // One evaluation per call site: a group's distance and material results are separate
+    // `Call` nodes on the same argument, and evaluating the callee for each of them made
+    // nested groups exponential.
+    let mut calls: crate::hash::FxHashMap<(u32, NodeId), Vec<Value<T>>> = Default::default();
     for i in 0..g.len() {
         if !need[i] {
             continue;
@@ -76,12 +80,14 @@ fn eval_graph_in<T: Float>(
             Op::LambdaArg { .. } => zero_of(node.ty),
             Op::Call { func, result } => match (groups.get(func as usize), args.first()) {
                 (Some(f), Some(Value::V3(p))) => {
-                    let sub = Inputs {
-                        point: *p,
-                        params: inputs.params.clone(),
-                        time: inputs.time,
-                    };
-                    let r = eval_graph_in(&f.graph, &f.results, &sub, groups);
+                    let r = calls.entry((func, node.args()[0])).or_insert_with(|| {
+                        let sub = Inputs {
+                            point: *p,
+                            params: inputs.params.clone(),
+                            time: inputs.time,
+                        };
+                        eval_graph_in(&f.graph, &f.results, &sub, groups)
+                    });
                     r.get(result as usize)
                         .copied()
                         .unwrap_or_else(|| zero_of(node.ty))

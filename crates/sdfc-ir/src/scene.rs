@@ -196,4 +196,7 @@ pub mod limits {
     pub const MAX_REPEAT_COUNT: u32 = 100_000;
     /// Nodes in the value graph after inlining (guards against exponential `fn` growth).
     pub const MAX_NODES: usize = 2_000_000;
+    /// Shapes of the scene unfolded into a tree (a `let` shape counts once per use). A
+    /// 1 MiB file of one flat union holds about 28 000 shapes (56 000 with a transform each).
+    pub const MAX_SHAPE_INSTANCES: u64 = 100_000;
 }

@@ -21,6 +21,13 @@ type Mat = [NodeId; 2];
 /// function, and the groups are where bounding-volume early-outs will go.
 pub const GROUP_SIZE: usize = 32;
 
+/// A shape whose unfolded tree has at least this many nodes gets a function of its own (a
+/// group function of one child), called wherever the shape is used. A `let` shape used at many
+/// places is then emitted once instead of once per use, and no function grows with the scene:
+/// naga's front end takes time quadratic in the size of one function (a 2 kB file whose
+/// `let`s double the scene on each line took 27 s to validate as one function).
+pub const OUTLINE_SHAPES: u64 = 64;
+
 /// The scalar functions of a scene.
 pub struct Functions {
     /// `scene_distance(p) -> f32`.
@@ -33,8 +40,9 @@ pub struct Functions {
 
 /// Builds `scene_distance` and `scene_material` (and their group functions).
 pub fn functions(scene: &Scene) -> Functions {
+    let counts = crate::lower::expansion::instance_counts(&scene.shapes);
     let mut groups = Groups::default();
-    let mut b = Builder::new(scene, false, groups);
+    let mut b = Builder::new(scene, &counts, false, groups);
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
     let distance = Func {
@@ -44,7 +52,7 @@ pub fn functions(scene: &Scene) -> Functions {
         results: vec![d],
     };
     groups = b.groups;
-    let mut b = Builder::new(scene, true, groups);
+    let mut b = Builder::new(scene, &counts, true, groups);
     let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
     let m = m.unwrap_or_else(|| b.material_const(0));
@@ -71,6 +79,10 @@ struct Groups {
 
 struct Builder<'s> {
     scene: &'s Scene,
+    /// Unfolded size of each shape (`expansion::instance_counts`), to decide what to outline.
+    counts: &'s [u64],
+    /// The shape whose group function this builder is building: inlined, not outlined again.
+    body_of: Option<ShapeId>,
     g: Graph,
     materials: bool,
     imported: FxHashMap<NodeId, NodeId>,
@@ -80,9 +92,11 @@ struct Builder<'s> {
 }
 
 impl<'s> Builder<'s> {
-    fn new(scene: &'s Scene, materials: bool, groups: Groups) -> Builder<'s> {
+    fn new(scene: &'s Scene, counts: &'s [u64], materials: bool, groups: Groups) -> Builder<'s> {
         Builder {
             scene,
+            counts,
+            body_of: None,
             g: Graph::new(),
             materials,
             imported: FxHashMap::default(),
@@ -105,7 +119,15 @@ impl<'s> Builder<'s> {
         let index = match self.groups.index.get(&key) {
             Some(i) => *i,
             None => {
-                let mut sub = Builder::new(self.scene, true, std::mem::take(&mut self.groups));
+                let mut sub = Builder::new(
+                    self.scene,
+                    self.counts,
+                    true,
+                    std::mem::take(&mut self.groups),
+                );
+                if let [only] = children {
+                    sub.body_of = Some(*only);
+                }
                 let sp = sub.point();
                 let (d, m) = sub.combine(CombineOp::Union, None, children, sp, mat);
                 let m = m.unwrap_or_else(|| sub.material_const(mat));
@@ -223,6 +245,17 @@ impl<'s> Builder<'s> {
         if let Some(r) = self.memo.get(&key) {
             return *r;
         }
+        if s != self.scene.root
+            && self.body_of != Some(s)
+            && self
+                .counts
+                .get(s.index())
+                .is_some_and(|&n| n >= OUTLINE_SHAPES)
+        {
+            let out = self.group(&[s], p, mat);
+            self.memo.insert(key, out);
+            return out;
+        }
         let node = self.scene.shape(s).clone();
         let out = match &node.kind {
             ShapeKind::Prim { prim, args } => {
@@ -318,8 +351,10 @@ impl<'s> Builder<'s> {
     ) -> (NodeId, Option<Mat>) {
         let parts: Vec<(NodeId, Option<Mat>)> =
             if op == CombineOp::Union && smooth.is_none() && children.len() > GROUP_SIZE {
-                // Balanced groups of at most GROUP_SIZE children each.
-                let n = children.len().div_ceil(GROUP_SIZE);
+                // Balanced groups of at most GROUP_SIZE children each, and at most
+                // GROUP_SIZE groups: a larger union becomes a tree of groups (each group
+                // splits its own children again), so no function grows with the scene.
+                let n = children.len().div_ceil(GROUP_SIZE).min(GROUP_SIZE);
                 let per = children.len().div_ceil(n);
                 children
                     .chunks(per)

@@ -52,6 +52,9 @@ pub(crate) struct CachedPipeline {
 pub(crate) struct ErrorSink {
     uncaptured: Mutex<Vec<String>>,
     lost: Mutex<Option<String>>,
+    /// Set while the renderer is dropped, when wgpu reports the device `Destroyed` as a
+    /// matter of course; a `Destroyed` at any other time is a loss like any other.
+    dropping: std::sync::atomic::AtomicBool,
 }
 
 /// A wgpu device ready to render compiled scenes and evaluate them at points.
@@ -268,7 +271,8 @@ impl Renderer {
         {
             let sink = sink.clone();
             device.set_device_lost_callback(move |reason, message| {
-                if reason != wgpu::DeviceLostReason::Destroyed {
+                let dropping = sink.dropping.load(Ordering::Relaxed);
+                if reason != wgpu::DeviceLostReason::Destroyed || !dropping {
                     if let Ok(mut l) = sink.lost.lock() {
                         *l = Some(format!("{reason:?}: {message}"));
                     }
@@ -320,8 +324,17 @@ impl Renderer {
             .min(self.limits.max_buffer_size)
     }
 
+    /// Destroys the device now, as a driver reset or a removed GPU would: every later call
+    /// on this renderer fails with [`RenderError::DeviceLost`] (a new `Renderer` is needed).
+    /// It exists so that tests and embedders can exercise their lost-device path.
+    pub fn lose_device(&self) {
+        self.device.destroy();
+    }
+
     /// Fails if the device was lost or reported errors nobody's scope caught.
     pub(crate) fn check_health(&self) -> Result<(), RenderError> {
+        // Let wgpu run its callbacks, the device-lost one among them, before looking.
+        let _ = self.device.poll(wgpu::PollType::Poll);
         if let Some(l) = self.sink.lost.lock().ok().and_then(|l| l.clone()) {
             return Err(RenderError::DeviceLost(l));
         }
@@ -441,5 +454,11 @@ impl Renderer {
         });
         cache.entry(key).or_default().push(p.clone());
         Ok(p)
+    }
+}
+
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        self.sink.dropping.store(true, Ordering::Relaxed);
     }
 }

@@ -1,10 +1,9 @@
 //! `eval_gpu`: the scene distance at a list of points, through the emitted WGSL.
 
 use crate::device::{Kind, Renderer, Scopes};
-use crate::render::{read_bytes, readback, storage};
+use crate::render::{read_bytes, readback, storage, upload};
 use crate::{params, RenderError};
 use sdfc_ir::Program;
-use wgpu::util::DeviceExt;
 
 /// The evaluation shader's workgroup size.
 const GROUP: u64 = 64;
@@ -24,6 +23,7 @@ impl Renderer {
     ) -> Result<Vec<f32>, RenderError> {
         let values = params::values(program, params)?;
         params::check_time(time)?;
+        self.check_health()?;
         let wgsl = sdfc_wgsl::eval_shader::eval_shader(program).map_err(|f| match f {
             sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
             sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
@@ -40,29 +40,24 @@ impl Renderer {
         for chunk in points.chunks(batch) {
             let scopes = Scopes::push(&self.device);
             let count = chunk.len() as u64;
-            let uniform = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("sdfc eval frame"),
-                    contents: &params::uniform_bytes(
-                        [chunk.len() as u32, time.to_bits(), 0, 0],
-                        &values,
-                    ),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+            let uniform = upload(
+                self,
+                "sdfc eval frame",
+                &params::uniform_bytes([chunk.len() as u32, time.to_bits(), 0, 0], &values),
+                wgpu::BufferUsages::UNIFORM,
+            );
             let mut point_bytes = Vec::with_capacity(chunk.len() * POINT_BYTES as usize);
             for p in chunk {
                 for c in [p[0], p[1], p[2], 0.0] {
                     point_bytes.extend_from_slice(&c.to_le_bytes());
                 }
             }
-            let input = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("sdfc eval points"),
-                    contents: &point_bytes,
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
+            let input = upload(
+                self,
+                "sdfc eval points",
+                &point_bytes,
+                wgpu::BufferUsages::STORAGE,
+            );
             let output = storage(&self.device, "sdfc eval out", 4 * count);
             let read = readback(&self.device, "sdfc eval read", 4 * count);
             let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -6,7 +6,6 @@ use sdfc_ir::Program;
 use sdfc_wgsl::Compiled;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
-use wgpu::util::DeviceExt;
 
 /// Bytes per pixel of the colour buffer (one packed `u32`) and of the AOV buffer (two `vec4`).
 const COLOR_BYTES: u64 = 4;
@@ -21,6 +20,28 @@ pub(crate) fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Bu
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
+}
+
+/// A buffer holding `contents`. Written through the queue rather than mapped at creation:
+/// wgpu's `create_buffer_init` panics when the device has been lost, this path reports an
+/// error instead.
+pub(crate) fn upload(
+    r: &Renderer,
+    label: &str,
+    contents: &[u8],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let size = (contents.len() as u64).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+    let buffer = r.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(wgpu::COPY_BUFFER_ALIGNMENT),
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut bytes = contents.to_vec();
+    bytes.resize(size as usize, 0);
+    r.queue.write_buffer(&buffer, 0, &bytes);
+    buffer
 }
 
 pub(crate) fn readback(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
@@ -104,6 +125,8 @@ impl Renderer {
     ) -> Result<Frame, RenderError> {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
+        // A lost device fails at once, before any work is recorded on it.
+        self.check_health()?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
         let pipeline = self.pipeline(Kind::Render, wgsl)?;
         let pixels = opts.width as u64 * opts.height as u64;
@@ -111,21 +134,20 @@ impl Renderer {
         let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
 
         let scopes = Scopes::push(&self.device);
-        let uniform = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sdfc frame"),
-                contents: &params::uniform_bytes(
-                    [
-                        opts.width,
-                        opts.height,
-                        opts.time.to_bits(),
-                        u32::from(opts.aovs),
-                    ],
-                    &params,
-                ),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let uniform = upload(
+            self,
+            "sdfc frame",
+            &params::uniform_bytes(
+                [
+                    opts.width,
+                    opts.height,
+                    opts.time.to_bits(),
+                    u32::from(opts.aovs),
+                ],
+                &params,
+            ),
+            wgpu::BufferUsages::UNIFORM,
+        );
         let color = storage(&self.device, "sdfc colour", color_size);
         let aov = storage(&self.device, "sdfc aovs", aov_size);
         let color_read = readback(&self.device, "sdfc colour read", color_size);

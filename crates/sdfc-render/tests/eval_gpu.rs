@@ -6,40 +6,14 @@
 
 mod common;
 
+use common::eval_check::{agree, points, Tolerance};
 use common::{compile, compile_file, renderer};
-use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_ir::value::Value;
 
-const REL: f64 = 1e-5;
-const ABS: f64 = 2e-6;
+const TOL: Tolerance = Tolerance {
+    rel: 1e-5,
+    abs: 2e-6,
+};
 const POINTS: usize = 3000;
-
-/// A small deterministic generator (SplitMix64): no dependency, same points every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-fn points(seed: u64, lo: [f32; 3], hi: [f32; 3]) -> Vec<[f32; 3]> {
-    let mut rng = Rng(seed);
-    (0..POINTS)
-        .map(|_| {
-            let mut p = [0.0f32; 3];
-            for k in 0..3 {
-                p[k] = lo[k] + (hi[k] - lo[k]) * rng.next() as f32;
-            }
-            p
-        })
-        .collect()
-}
 
 fn check(
     name: &str,
@@ -49,66 +23,26 @@ fn check(
     params: &[(String, Vec<f32>)],
 ) {
     let Some(r) = renderer() else { return };
-    let program = compiled.program();
-    let gpu = r
-        .eval_gpu(program, pts, time, params)
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
-    assert_eq!(gpu.len(), pts.len());
-    let mut param_values: Vec<Value<f64>> = program
-        .scene
-        .params
-        .iter()
-        .map(|p| p.default.cast())
-        .collect();
-    for (n, v) in params {
-        let i = program
-            .scene
-            .params
-            .iter()
-            .position(|p| &p.name == n)
-            .unwrap();
-        let comps: Vec<f64> = v.iter().map(|&c| c as f64).collect();
-        param_values[i] = Value::from_comps(program.scene.params[i].ty, &comps);
+    match agree(r, compiled, pts, time, params, TOL) {
+        Ok(a) => eprintln!(
+            "{name}: {} points, worst relative error {:.2e} (|d| > 1e-3), worst absolute {:.2e}",
+            pts.len(),
+            a.worst_rel,
+            a.worst_abs
+        ),
+        Err(e) => panic!("{name}: {e}"),
     }
-    let mut worst_rel: f64 = 0.0;
-    let mut worst_abs: f64 = 0.0;
-    let mut failures = Vec::new();
-    for (p, &g) in pts.iter().zip(&gpu) {
-        let inputs = Inputs {
-            point: [p[0] as f64, p[1] as f64, p[2] as f64],
-            params: param_values.clone(),
-            time: time as f64,
-        };
-        let c = eval_func(&program.distance, &program.groups, &inputs)[0]
-            .scalar()
-            .unwrap();
-        let err = (g as f64 - c).abs();
-        worst_abs = worst_abs.max(err);
-        if c.abs() > 1e-3 {
-            worst_rel = worst_rel.max(err / c.abs());
-        }
-        if err.is_nan() || err > REL * c.abs() + ABS {
-            failures.push((*p, g, c));
-        }
-    }
-    eprintln!(
-        "{name}: {} points, worst relative error {worst_rel:.2e} (|d| > 1e-3), worst absolute \
-         {worst_abs:.2e}",
-        pts.len()
-    );
-    assert!(
-        failures.is_empty(),
-        "{name}: {} of {} points off by more than {REL:e} relative + {ABS:e}; first \
-         (point, gpu, cpu): {:?}",
-        failures.len(),
-        pts.len(),
-        &failures[..failures.len().min(5)]
-    );
 }
 
 fn corpus(rel: &str, seed: u64) {
     let compiled = compile_file(rel);
-    check(rel, &compiled, &points(seed, [-4.0; 3], [4.0; 3]), 0.0, &[]);
+    check(
+        rel,
+        &compiled,
+        &points(seed, POINTS, [-4.0; 3], [4.0; 3]),
+        0.0,
+        &[],
+    );
 }
 
 #[test]
@@ -148,7 +82,7 @@ fn noise_and_fbm() {
 #[test]
 fn params_and_time() {
     let compiled = compile_file("tests/scenes/params_time.sdf");
-    let pts = points(9, [-4.0; 3], [4.0; 3]);
+    let pts = points(9, POINTS, [-4.0; 3], [4.0; 3]);
     check("params_time (defaults)", &compiled, &pts, 0.0, &[]);
     check(
         "params_time (overridden, t = 0.7)",
@@ -175,7 +109,7 @@ fn large_union_with_groups() {
     check(
         "grid_scene(200)",
         &compiled,
-        &points(10, [-8.0, -1.0, -12.0], [8.0, 12.0, 2.0]),
+        &points(10, POINTS, [-8.0, -1.0, -12.0], [8.0, 12.0, 2.0]),
         0.0,
         &[],
     );

@@ -3,6 +3,7 @@
 
 mod args;
 mod builtins;
+pub mod expansion;
 mod expr;
 mod scope;
 mod settings;
@@ -37,9 +38,16 @@ pub struct Lowered {
 pub fn lower(file: &File, source_len: usize) -> Lowered {
     let mut l = Lowerer::new();
     l.items(file, source_len);
-    let diagnostics = std::mem::take(&mut l.diags);
+    let mut diagnostics = std::mem::take(&mut l.diags);
     let errors = diagnostics.iter().any(|d| d.is_error());
-    let scene = if errors { None } else { l.finish() };
+    let scene_span = l.scene.map(|(_, span)| span);
+    let mut scene = if errors { None } else { l.finish() };
+    if let (Some(s), Some(span)) = (&scene, scene_span) {
+        if let Some(d) = expansion::check(&s.shapes, s.root, span) {
+            diagnostics.push(d);
+            scene = None;
+        }
+    }
     Lowered { scene, diagnostics }
 }
 

@@ -1,6 +1,8 @@
 //! Helpers shared by the render tests: one device per test binary, scene loading, goldens.
 #![allow(dead_code)]
 
+pub mod eval_check;
+
 use sdfc_render::{Frame, Renderer};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

@@ -1,0 +1,120 @@
+//! The GPU-against-CPU distance check: `eval_gpu` (the emitted WGSL run on the device, f32)
+//! against the f64 reference evaluator at given points.
+
+use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::value::Value;
+use sdfc_render::Renderer;
+
+/// A small deterministic generator (SplitMix64): no dependency, same points every run.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `n` deterministic points uniformly in the box `lo..hi`.
+pub fn points(seed: u64, n: usize, lo: [f32; 3], hi: [f32; 3]) -> Vec<[f32; 3]> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|_| {
+            let mut p = [0.0f32; 3];
+            for k in 0..3 {
+                p[k] = lo[k] + (hi[k] - lo[k]) * rng.next() as f32;
+            }
+            p
+        })
+        .collect()
+}
+
+/// How far apart the two sides may be: `|gpu - cpu| <= rel * |cpu| + abs`.
+#[derive(Clone, Copy)]
+pub struct Tolerance {
+    pub rel: f64,
+    pub abs: f64,
+}
+
+/// The worst errors seen where every point passed.
+pub struct Agreement {
+    /// Worst relative error over points with |d| > 1e-3.
+    pub worst_rel: f64,
+    pub worst_abs: f64,
+}
+
+/// Evaluates `compiled` at `pts` on the device and in f64 on the CPU (with `time` and the
+/// `params` overrides on both sides) and compares them; `Err` lists the first failures.
+pub fn agree(
+    r: &Renderer,
+    compiled: &sdfc_wgsl::Compiled,
+    pts: &[[f32; 3]],
+    time: f32,
+    params: &[(String, Vec<f32>)],
+    tol: Tolerance,
+) -> Result<Agreement, String> {
+    let program = compiled.program();
+    let gpu = r
+        .eval_gpu(program, pts, time, params)
+        .map_err(|e| format!("eval_gpu failed: {e}"))?;
+    if gpu.len() != pts.len() {
+        return Err(format!("{} values for {} points", gpu.len(), pts.len()));
+    }
+    let mut param_values: Vec<Value<f64>> = program
+        .scene
+        .params
+        .iter()
+        .map(|p| p.default.cast())
+        .collect();
+    for (n, v) in params {
+        let i = program
+            .scene
+            .params
+            .iter()
+            .position(|p| &p.name == n)
+            .ok_or_else(|| format!("no param {n}"))?;
+        let comps: Vec<f64> = v.iter().map(|&c| c as f64).collect();
+        param_values[i] = Value::from_comps(program.scene.params[i].ty, &comps);
+    }
+    let mut worst_rel: f64 = 0.0;
+    let mut worst_abs: f64 = 0.0;
+    let mut failures = Vec::new();
+    for (p, &g) in pts.iter().zip(&gpu) {
+        let inputs = Inputs {
+            point: [p[0] as f64, p[1] as f64, p[2] as f64],
+            params: param_values.clone(),
+            time: time as f64,
+        };
+        let c = eval_func(&program.distance, &program.groups, &inputs)[0]
+            .scalar()
+            .unwrap_or(f64::NAN);
+        let err = (g as f64 - c).abs();
+        worst_abs = worst_abs.max(err);
+        if c.abs() > 1e-3 {
+            worst_rel = worst_rel.max(err / c.abs());
+        }
+        if err.is_nan() || err > tol.rel * c.abs() + tol.abs {
+            failures.push((*p, g, c));
+        }
+    }
+    if failures.is_empty() {
+        Ok(Agreement {
+            worst_rel,
+            worst_abs,
+        })
+    } else {
+        Err(format!(
+            "{} of {} points off by more than {:e} relative + {:e}; first (point, gpu, cpu): \
+             {:?}",
+            failures.len(),
+            pts.len(),
+            tol.rel,
+            tol.abs,
+            &failures[..failures.len().min(5)]
+        ))
+    }
+}

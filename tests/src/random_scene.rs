@@ -1,0 +1,88 @@
+//! A proptest generator of random *valid* scenes: every shape and operation this version
+//! implements, nested, with random sizes. Shared by the compile property test and the GPU
+//! agreement test of the renderer.
+
+use proptest::prelude::*;
+
+/// A number in `lo..hi`, printed with three decimals as a scene would spell it.
+pub fn num(lo: f64, hi: f64) -> impl Strategy<Value = String> {
+    (lo..hi).prop_map(|x| format!("{x:.3}"))
+}
+
+/// A vec3 literal with components in `lo..hi`.
+pub fn vec3(lo: f64, hi: f64) -> impl Strategy<Value = String> {
+    (num(lo, hi), num(lo, hi), num(lo, hi)).prop_map(|(a, b, c)| format!("[{a}, {b}, {c}]"))
+}
+
+/// One primitive call with valid arguments.
+pub fn primitive() -> impl Strategy<Value = String> {
+    prop_oneof![
+        num(0.1, 2.0).prop_map(|r| format!("sphere({r})")),
+        vec3(0.1, 2.0).prop_map(|s| format!("box({s})")),
+        (0.4f64..2.0, 0.0f64..1.0)
+            .prop_map(|(s, f)| format!("round_box({s:.3}, {:.3})", s * 0.5 * f)),
+        (num(0.5, 2.0), num(0.05, 0.4)).prop_map(|(a, b)| format!("torus({a}, {b})")),
+        (num(0.1, 1.0), num(0.1, 2.0)).prop_map(|(a, b)| format!("cylinder({a}, {b})")),
+        (vec3(-1.0, 1.0), vec3(-1.0, 1.0), num(0.05, 0.5))
+            .prop_map(|(a, b, r)| format!("capsule({a}, {b}, {r})")),
+        (vec3(-1.0, 1.0), num(-1.0, 1.0))
+            .prop_map(|(n, h)| format!("plane({n} + [0, 0.01, 0], {h})")),
+        num(0.2, 1.5).prop_map(|r| format!("sdf(|p| length(p) - {r})")),
+    ]
+}
+
+/// A shape expression: primitives under up to four levels of operations.
+pub fn shape() -> impl Strategy<Value = String> {
+    primitive().prop_recursive(4, 24, 3, |inner| {
+        prop_oneof![
+            (
+                inner.clone(),
+                inner.clone(),
+                prop::option::of(num(0.0, 0.5))
+            )
+                .prop_map(|(a, b, k)| match k {
+                    Some(k) => format!("union({a}, {b}, smooth: {k})"),
+                    None => format!("({a} | {b})"),
+                }),
+            (
+                inner.clone(),
+                inner.clone(),
+                prop::option::of(num(0.0, 0.5))
+            )
+                .prop_map(|(a, b, k)| match k {
+                    Some(k) => format!("intersect({a}, {b}, smooth: {k})"),
+                    None => format!("({a} & {b})"),
+                }),
+            (
+                inner.clone(),
+                inner.clone(),
+                prop::option::of(num(0.0, 0.5))
+            )
+                .prop_map(|(a, b, k)| match k {
+                    Some(k) => format!("subtract({a}, {b}, smooth: {k})"),
+                    None => format!("({a} - {b})"),
+                }),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("xor({a}, {b})")),
+            (inner.clone(), vec3(-3.0, 3.0)).prop_map(|(a, v)| format!("{a}.translate({v})")),
+            (inner.clone(), 0usize..3, num(-180.0, 180.0))
+                .prop_map(|(a, axis, t)| format!("{a}.rotate_{}({t}deg)", ["x", "y", "z"][axis])),
+            (inner.clone(), vec3(-1.0, 1.0), num(-3.0, 3.0))
+                .prop_map(|(a, axis, t)| format!("{a}.rotate({axis} + [0.01, 0, 0], {t})")),
+            (inner.clone(), num(0.2, 3.0)).prop_map(|(a, f)| format!("{a}.scale({f})")),
+            (inner.clone(), 0usize..3)
+                .prop_map(|(a, axis)| format!("{a}.mirror_{}()", ["x", "y", "z"][axis])),
+            (inner.clone(), vec3(0.0, 4.0))
+                .prop_map(|(a, p)| format!("{a}.repeat({p} + [1, 0, 0])")),
+            (inner.clone(), vec3(1.0, 4.0), 1u32..4, 1u32..4)
+                .prop_map(|(a, p, n, m)| format!("{a}.repeat({p}, count: [{n}, {m}, 1])")),
+            (inner.clone(), vec3(0.0, 1.0)).prop_map(|(a, h)| format!("{a}.elongate({h})")),
+            (inner.clone(), num(0.0, 0.3)).prop_map(|(a, r)| format!("{a}.round({r})")),
+            (inner.clone(), num(0.01, 0.3)).prop_map(|(a, t)| format!("{a}.onion({t})")),
+            (inner.clone(), vec3(0.0, 1.0)).prop_map(|(a, c)| format!("{a}.color({c})")),
+            (inner, num(1.0, 40.0)).prop_map(|(a, k)| format!(
+                "displace({a}, |p| sin({k} * p.y) / 32, lipschitz: {:.3})",
+                1.0 + k.parse::<f64>().unwrap_or(40.0) / 32.0
+            )),
+        ]
+    })
+}

@@ -1,0 +1,136 @@
+//! Inputs at the documented limits (docs/language.md, "Limits"): a file of the maximum size,
+//! scenes that grow exponentially through `let` or `fn`, nesting past the limit. Each must
+//! compile or be refused with its limit's diagnostic, never exhaust memory or the stack.
+//!
+//! Compile time stays bounded because no emitted function grows with the input: naga's WGSL
+//! front end is quadratic in the size of one function, so the structural property asserted
+//! here (every function has at most `MAX_FUNCTION_NODES` nodes) is what keeps time linear.
+//! The times themselves are measured by the `max_size` benchmark of `benches/compile.rs`.
+
+use sdfc_ir::scene::limits::{MAX_NODES, MAX_SHAPE_INSTANCES};
+use sdfc_syntax::MAX_SOURCE_BYTES;
+use sdfc_tests::{doubling_lets, max_size_union};
+use sdfc_wgsl::{compile, Compiled, Failure, Options};
+
+/// The largest function the compiler may emit for the scenes below: a group function holds
+/// at most 32 union children (or one outlined shape of under 64 nodes plus calls), each a few
+/// dozen nodes.
+const MAX_FUNCTION_NODES: usize = 4_000;
+
+fn compiled(name: &str, src: &str) -> Compiled {
+    match compile(src, &Options::default()) {
+        Ok(c) => c,
+        Err(Failure::Diagnostics(d)) => panic!("{name}: {:?}", d[0].message),
+        Err(Failure::Internal { report, .. }) => panic!("{name}: internal error {report}"),
+    }
+}
+
+/// The message of the first error, which the scene must produce.
+fn refused(name: &str, src: &str) -> String {
+    match compile(src, &Options::default()) {
+        Ok(_) => panic!("{name}: compiled, expected a limit error"),
+        Err(Failure::Diagnostics(d)) => {
+            let e = d.iter().find(|d| d.is_error()).expect("an error");
+            assert!(
+                e.span.end as usize <= src.len(),
+                "{name}: span out of bounds"
+            );
+            e.message.clone()
+        }
+        Err(Failure::Internal { report, .. }) => panic!("{name}: internal error {report}"),
+    }
+}
+
+fn largest_function(c: &Compiled) -> usize {
+    let p = c.program();
+    std::iter::once(&p.distance)
+        .chain(std::iter::once(&p.material))
+        .chain(&p.groups)
+        .map(|f| f.graph.len())
+        .max()
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_flat_union_of_the_maximum_file_size_compiles_in_small_functions() {
+    let src = max_size_union(MAX_SOURCE_BYTES);
+    let n = src.matches("sphere").count();
+    assert!(src.len() <= MAX_SOURCE_BYTES && n > 20_000);
+    let c = compiled("flat union", &src);
+    let largest = largest_function(&c);
+    assert!(
+        largest <= MAX_FUNCTION_NODES,
+        "{n} spheres: a function of {largest} nodes"
+    );
+    // One byte more than the limit is refused, with the limit named.
+    let over = format!("{src}{}", " ".repeat(MAX_SOURCE_BYTES + 1 - src.len()));
+    let msg = refused("oversized file", &over);
+    assert!(msg.contains("larger than"), "{msg}");
+}
+
+#[test]
+fn doubling_lets_below_the_limit_are_emitted_once_per_let() {
+    // 15 levels unfold into about 98 000 shapes, under the limit of 100 000.
+    let src = doubling_lets(15);
+    let c = compiled("15 doubling lets", &src);
+    let largest = largest_function(&c);
+    assert!(
+        largest <= MAX_FUNCTION_NODES,
+        "a function of {largest} nodes"
+    );
+    // 2^15 spheres of radius 0.25 at x = sum of a subset of 1..=15: every integer from 0 to
+    // 120 is such a sum, so the distance at (x, 1, 0) is 0.75 for those x.
+    let p = c.program();
+    for x in [0.0, 7.0, 120.0] {
+        let d = sdfc_ir::eval::eval_func::<f64>(
+            &p.distance,
+            &p.groups,
+            &sdfc_ir::eval::Inputs::at([x, 1.0, 0.0]),
+        )[0]
+        .scalar()
+        .unwrap();
+        assert!((d - 0.75).abs() < 1e-6, "distance at x = {x}: {d}");
+    }
+}
+
+#[test]
+fn doubling_lets_past_the_limit_are_refused() {
+    // 16 levels: about 196 000 shapes; 60 levels: about 10^18 (a count that must not overflow).
+    for levels in [16, 60] {
+        let msg = refused("doubling lets", &doubling_lets(levels));
+        assert!(
+            msg.contains(&format!("more than the limit of {MAX_SHAPE_INSTANCES}")),
+            "{levels} levels: {msg}"
+        );
+    }
+}
+
+#[test]
+fn doubling_fns_hit_the_node_limit() {
+    let mut src = String::from("fn f0(p) = length(p) - 1;\n");
+    for k in 1..40 {
+        src += &format!(
+            "fn f{k}(p) = min(f{}(p), f{}(p + [{k}, 0, 0]));\n",
+            k - 1,
+            k - 1
+        );
+    }
+    src += "scene = sdf(|p| f39(p));\n";
+    let msg = refused("doubling fns", &src);
+    assert!(
+        msg.contains(&format!("grows past {MAX_NODES} nodes")),
+        "{msg}"
+    );
+}
+
+#[test]
+fn parentheses_nested_past_the_limit_are_refused_without_overflow() {
+    let depth = 200_000;
+    let src = format!(
+        "scene = {}sphere(1){};\n",
+        "(".repeat(depth),
+        ")".repeat(depth)
+    );
+    let msg = refused("deep parentheses", &src);
+    assert!(msg.contains("nested too deeply"), "{msg}");
+}

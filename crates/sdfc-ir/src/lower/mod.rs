@@ -6,6 +6,7 @@ mod builtins;
 mod expr;
 mod scope;
 mod settings;
+mod prims;
 mod shapes;
 
 use crate::graph::{Graph, NodeId};

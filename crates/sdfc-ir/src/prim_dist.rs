@@ -50,17 +50,18 @@ pub fn box_frame(p: V3, b: V3, w: f64) -> f64 {
 }
 
 /// Torus arc in the xy plane: major radius `ra`, tube `rb`, the angles within the
-/// half-angle (sine `s`, cosine `c`) of +y. Beyond the arc's end the nearest point of the
-/// centre circle is the end point, `ra (s, c)`.
+/// half-angle (sine `s`, cosine `c`) of +y. Within the arc the nearest point of the centre
+/// circle is the one above the point; beyond the arc's end it is the end point `ra (s, c)`.
+/// (Written as two lengths rather than iq's `sqrt(|p|^2 + ra^2 - 2 ra k)`, which cancels
+/// badly in f32 near the centre circle.)
 pub fn capped_torus(p: V3, s: f64, c: f64, ra: f64, rb: f64) -> f64 {
     let x = p[0].abs();
-    let k = if c * x > s * p[1] {
-        x * s + p[1] * c
+    let d = if c * x > s * p[1] {
+        len3([x - ra * s, p[1] - ra * c, p[2]])
     } else {
-        len2(x, p[1])
+        len2(len2(x, p[1]) - ra, p[2])
     };
-    let pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-    (pp + ra * ra - 2.0 * ra * k).max(0.0).sqrt() - rb
+    d - rb
 }
 
 /// Frustum along y from `-h` (radius `r1`) to `h` (radius `r2`): in the half-plane

@@ -310,8 +310,11 @@ impl<'s> Builder<'s> {
                 self.op(Op::Helper(Helper::SdBoxFrame), &[p, b, a[1]])
             }
             Prim::CappedTorus => {
-                // A runtime angle is clamped to [0, pi], where the arc test is valid.
-                let (lo, hi) = (self.f(0.0), self.f(std::f32::consts::PI));
+                // The angle is clamped to [0, pi], where the arc test is valid; the upper end
+                // is the f32 just below pi, whose sine is positive (f32 pi's is negative,
+                // which would cut a sliver along +y out of the full ring).
+                let below_pi = f32::from_bits(std::f32::consts::PI.to_bits() - 1);
+                let (lo, hi) = (self.f(0.0), self.f(below_pi));
                 let angle = self.g.builtin(Builtin::Clamp, &[a[2], lo, hi]);
                 let s = self.g.builtin(Builtin::Sin, &[angle]);
                 let c = self.g.builtin(Builtin::Cos, &[angle]);

@@ -29,6 +29,35 @@ fn primitive() -> impl Strategy<Value = String> {
         (vec3(-1.0, 1.0), num(-1.0, 1.0))
             .prop_map(|(n, h)| format!("plane({n} + [0, 0.01, 0], {h})")),
         num(0.2, 1.5).prop_map(|r| format!("sdf(|p| length(p) - {r})")),
+        more_primitives(),
+        fractals(),
+    ]
+}
+
+fn more_primitives() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0.4f64..2.0, 0.0f64..1.0)
+            .prop_map(|(s, f)| format!("box_frame({s:.3}, {:.3})", s * 0.5 * f)),
+        (num(0.5, 2.0), num(0.05, 0.4), num(0.0, 180.0))
+            .prop_map(|(a, b, t)| format!("capped_torus({a}, {b}, {t}deg)")),
+        num(0.1, 1.0).prop_map(|r| format!("infinite_cylinder({r})")),
+        (num(0.0, 1.0), num(0.0, 2.0)).prop_map(|(r, h)| format!("cone({r}, {h})")),
+        (num(0.0, 2.0), num(0.0, 1.0), num(0.0, 1.0))
+            .prop_map(|(h, a, b)| format!("capped_cone({h}, {a}, {b})")),
+        vec3(0.05, 1.5).prop_map(|r| format!("ellipsoid({r})")),
+        num(0.0, 2.0).prop_map(|s| format!("octahedron({s})")),
+        (num(0.0, 1.0), num(0.0, 2.0)).prop_map(|(r, h)| format!("hex_prism({r}, {h})")),
+        (num(0.0, 1.0), num(0.0, 2.0)).prop_map(|(r, h)| format!("tri_prism({r}, {h})")),
+        num(0.0, 2.0).prop_map(|h| format!("pyramid({h})")),
+    ]
+}
+
+fn fractals() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (num(2.0, 12.0), 1u32..10)
+            .prop_map(|(n, i)| format!("mandelbulb(power: {n}, iterations: {i})")),
+        (1u32..6).prop_map(|i| format!("menger(iterations: {i})")),
+        (1u32..12).prop_map(|i| format!("sierpinski(iterations: {i})")),
     ]
 }
 

@@ -128,7 +128,10 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 fn seg3(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     let ab = sub(b, a);
     let t = (dot(sub(p, a), ab) / dot(ab, ab)).clamp(0.0, 1.0);
-    len(sub(p, [a[0] + ab[0] * t, a[1] + ab[1] * t, a[2] + ab[2] * t]))
+    len(sub(
+        p,
+        [a[0] + ab[0] * t, a[1] + ab[1] * t, a[2] + ab[2] * t],
+    ))
 }
 
 /// Signed distance to a simple polygon in 2D: the nearest edge, negative inside
@@ -138,7 +141,11 @@ fn polygon(p: [f64; 2], v: &[[f64; 2]]) -> f64 {
     let mut inside = false;
     for i in 0..v.len() {
         let (a, b) = (v[i], v[(i + 1) % v.len()]);
-        d = d.min(seg3([p[0], p[1], 0.0], [a[0], a[1], 0.0], [b[0], b[1], 0.0]));
+        d = d.min(seg3(
+            [p[0], p[1], 0.0],
+            [a[0], a[1], 0.0],
+            [b[0], b[1], 0.0],
+        ));
         if (a[1] > p[1]) != (b[1] > p[1]) {
             let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
             if p[0] < x {
@@ -248,7 +255,7 @@ fn capped_torus_is_the_distance_to_an_arc() {
         ("capped_torus(1, 0.25, 180deg)", 1.0, 0.25, 180.0, 1.6),
     ] {
         // The compiler's f32 sine and cosine of the (f32) angle.
-        let a = (deg as f64).to_radians() as f32;
+        let a = f64::to_radians(deg) as f32;
         let a = a.min(f32::from_bits(std::f32::consts::PI.to_bits() - 1)) as f64;
         let (s, c) = (a.sin() as f32 as f64, a.cos() as f32 as f64);
         let half = s.atan2(c);
@@ -276,10 +283,7 @@ fn infinite_cylinder_is_radial() {
 
 #[test]
 fn cone_is_a_triangle_of_revolution() {
-    for (scene, r, h) in [
-        ("cone(0.75, 1.5)", 0.75, 1.5),
-        ("cone(1, 0.5)", 1.0, 0.5),
-    ] {
+    for (scene, r, h) in [("cone(0.75, 1.5)", 0.75, 1.5), ("cone(1, 0.5)", 1.0, 0.5)] {
         exact(scene, -1.5, 1.75, 14, |p| {
             let rho = p[0].hypot(p[2]);
             polygon([rho, p[1]], &[[-r, 0.0], [r, 0.0], [0.0, h]])
@@ -492,7 +496,10 @@ fn bound_by_membership(scene: &str, member: impl Fn([f64; 3]) -> bool, seed: u64
         }
         if m {
             inside += 1;
-            assert!(-d <= nearest(p, &others) + 1e-12, "{scene} at {p:?}: depth {d}");
+            assert!(
+                -d <= nearest(p, &others) + 1e-12,
+                "{scene} at {p:?}: depth {d}"
+            );
         } else {
             assert!(d <= nearest(p, &members) + 1e-12, "{scene} at {p:?}: {d}");
         }
@@ -575,7 +582,10 @@ fn sierpinski_barycentric_coordinates_reproduce_the_point() {
     // The membership test's coordinates: the corners themselves have l = e_i.
     let corner = [0.5, -0.5, -0.5];
     assert!(in_sierpinski(corner.map(|x| x * 0.999), 6));
-    assert!(!in_sierpinski([0.0; 3], 1), "the centre is in the removed octahedron");
+    assert!(
+        !in_sierpinski([0.0; 3], 1),
+        "the centre is in the removed octahedron"
+    );
 }
 
 /// Whether the orbit of c under the power-n triplex map (pole along y) leaves radius 2
@@ -629,7 +639,12 @@ fn mandelbulb_bounding_sphere_sign_and_finiteness() {
         assert!(escaping > 100, "{scene}: only {escaping} escaping points");
         // The origin (orbit 0) is inside; the poles and the axes stay finite.
         assert!(eval(&s, [0.0; 3]) <= 0.0, "{scene} at the origin");
-        for p in [[0.0, 0.5, 0.0], [0.0, -0.3, 0.0], [1e-30, 0.0, 0.0], [0.0, 0.0, 0.7]] {
+        for p in [
+            [0.0, 0.5, 0.0],
+            [0.0, -0.3, 0.0],
+            [1e-30, 0.0, 0.0],
+            [0.0, 0.0, 0.7],
+        ] {
             let d = eval(&s, p);
             assert!(d.is_finite(), "{scene} at {p:?}: {d}");
         }
@@ -652,18 +667,39 @@ fn error_of(scene: &str) -> String {
 #[test]
 fn bad_arguments_are_diagnosed_where_written() {
     for (scene, message) in [
-        ("menger(iterations: 0)", "must be a whole number from 1 to 8, found 0"),
-        ("menger(iterations: 2.5)", "must be a whole number from 1 to 8, found 2.5"),
+        (
+            "menger(iterations: 0)",
+            "must be a whole number from 1 to 8, found 0",
+        ),
+        (
+            "menger(iterations: 2.5)",
+            "must be a whole number from 1 to 8, found 2.5",
+        ),
         ("sierpinski(iterations: 21)", "from 1 to 20, found 21"),
         ("mandelbulb(iterations: 33)", "from 1 to 32, found 33"),
-        ("mandelbulb(power: 1)", "`power` must be from 2 to 16, found 1"),
-        ("mandelbulb(power: [1, 2, 3])", "`power` must be a number, found a vec3"),
-        ("cone(-1, 2)", "the base radius must not be negative, found -1"),
-        ("capped_cone(1, 0.5, -0.5)", "the top radius `r2` must not be negative"),
+        (
+            "mandelbulb(power: 1)",
+            "`power` must be from 2 to 16, found 1",
+        ),
+        (
+            "mandelbulb(power: [1, 2, 3])",
+            "`power` must be a number, found a vec3",
+        ),
+        (
+            "cone(-1, 2)",
+            "the base radius must not be negative, found -1",
+        ),
+        (
+            "capped_cone(1, 0.5, -0.5)",
+            "the top radius `r2` must not be negative",
+        ),
         ("octahedron(-2)", "the size must not be negative"),
         ("hex_prism(0.5, -1)", "the length must not be negative"),
         ("pyramid(-1)", "the height must not be negative"),
-        ("ellipsoid([1, 0, 1])", "the radii of an ellipsoid must be positive"),
+        (
+            "ellipsoid([1, 0, 1])",
+            "the radii of an ellipsoid must be positive",
+        ),
         ("ellipsoid([1, -1, 1])", "must not be negative"),
         ("box_frame(1, 0.6)", "bar thickness 0.6 is more than half"),
         ("capped_torus(1, 0.2, 200deg)", "must be from 0 to pi"),
@@ -671,15 +707,26 @@ fn bad_arguments_are_diagnosed_where_written() {
         ("tri_prism(0.5)", "`tri_prism` is missing `h`"),
     ] {
         let text = error_of(scene);
-        assert!(text.contains(message), "{scene}: expected `{message}` in\n{text}");
-        assert!(text.contains("t.sdf:1:"), "{scene}: no line and column in\n{text}");
+        assert!(
+            text.contains(message),
+            "{scene}: expected `{message}` in\n{text}"
+        );
+        assert!(
+            text.contains("t.sdf:1:"),
+            "{scene}: no line and column in\n{text}"
+        );
     }
 }
 
 #[test]
 fn every_new_primitive_is_exact_or_documented_as_a_bound() {
     use sdfc_ir::shape::Prim;
-    for p in [Prim::Ellipsoid, Prim::Mandelbulb, Prim::Menger, Prim::Sierpinski] {
+    for p in [
+        Prim::Ellipsoid,
+        Prim::Mandelbulb,
+        Prim::Menger,
+        Prim::Sierpinski,
+    ] {
         assert!(!p.exact(), "{}", p.name());
     }
     for p in [

@@ -71,7 +71,10 @@ fn check(scene: &str, size: f32, seed: u64, rel: f64, skip_near: f64) {
         "{scene}: {compared} points, worst relative error {worst_rel:.1e} (|d| > 1e-3), \
          worst absolute {worst_abs:.1e}"
     );
-    assert!(compared > POINTS / 2, "{scene}: only {compared} points compared");
+    assert!(
+        compared > POINTS / 2,
+        "{scene}: only {compared} points compared"
+    );
     assert!(
         failures.is_empty(),
         "{scene}: {} of {compared} points off by more than {rel:e} relative + {ABS:e}; \
@@ -111,5 +114,11 @@ fn bound_primitives_agree() {
 #[test]
 fn mandelbulb_agrees_away_from_its_surface() {
     check("mandelbulb()", 1.5, 46, MANDELBULB_REL, 0.05);
-    check("mandelbulb(power: 4, iterations: 5)", 1.5, 47, MANDELBULB_REL, 0.05);
+    check(
+        "mandelbulb(power: 4, iterations: 5)",
+        1.5,
+        47,
+        MANDELBULB_REL,
+        0.05,
+    );
 }

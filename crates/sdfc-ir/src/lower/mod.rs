@@ -4,9 +4,9 @@
 mod args;
 mod builtins;
 mod expr;
+mod prims;
 mod scope;
 mod settings;
-mod prims;
 mod shapes;
 
 use crate::graph::{Graph, NodeId};

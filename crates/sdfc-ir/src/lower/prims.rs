@@ -158,11 +158,16 @@ impl<'a> Lowerer<'a> {
                 let re = e(0)?;
                 let radii = self.arg_size(re, scope, "the radii of an ellipsoid")?;
                 if let Some(Value::V3(r)) = self.const_of(radii) {
-                    if r.iter().any(|x| *x == 0.0) {
+                    if r.contains(&0.0) {
                         return Err(self.error(
-                            Diagnostic::error(re.span, "the radii of an ellipsoid must be positive, found a zero")
-                                .with_label("zero radius")
-                                .with_hint("a flat ellipsoid has no inside; use a small positive radius"),
+                            Diagnostic::error(
+                                re.span,
+                                "the radii of an ellipsoid must be positive, found a zero",
+                            )
+                            .with_label("zero radius")
+                            .with_hint(
+                                "a flat ellipsoid has no inside; use a small positive radius",
+                            ),
                         ));
                     }
                 }
@@ -178,7 +183,6 @@ impl<'a> Lowerer<'a> {
         };
         Ok(ShapeKind::Prim { prim, args })
     }
-
 
     /// `mandelbulb(power: 8, iterations: 8)`, `menger(iterations: 4)`,
     /// `sierpinski(iterations: 8)`: every argument a compile-time constant, checked.
@@ -240,7 +244,9 @@ impl<'a> Lowerer<'a> {
                         return Err(self.error(
                             Diagnostic::error(
                                 e.span,
-                                format!("the mandelbulb's `power` must be from {lo} to {hi}, found {x}"),
+                                format!(
+                                    "the mandelbulb's `power` must be from {lo} to {hi}, found {x}"
+                                ),
                             )
                             .with_label("out of range")
                             .with_hint("the classic mandelbulb is `power: 8`"),

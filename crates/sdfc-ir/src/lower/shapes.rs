@@ -614,7 +614,12 @@ impl<'a> Lowerer<'a> {
         }
     }
 
-    pub(super) fn arg_nonneg(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
+    pub(super) fn arg_nonneg(
+        &mut self,
+        e: &'a Expr,
+        scope: &Rc<Scope<'a>>,
+        what: &str,
+    ) -> R<NodeId> {
         let n = self.arg_num(e, scope, what)?;
         self.check_nonneg(n, e.span, what)?;
         Ok(n)

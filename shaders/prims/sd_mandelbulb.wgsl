@@ -1,9 +1,10 @@
 // Mandelbulb of power n (pole along y), `iterations` steps, bailout radius 2: the usual
-// distance estimate 0.5 r ln(r) / dr. Outside the radius `bound` that holds the whole set,
-// the distance to that sphere.
+// distance estimate 0.5 r ln(r) / dr. The set lies within radius `bound`; beyond 1.25 bound
+// the distance to that sphere is returned without iterating (not beyond `bound` itself: the
+// sphere's distance is 0 on the sphere, where the marcher would stop).
 fn sd_mandelbulb(p: vec3<f32>, n: f32, iterations: f32, bound: f32) -> f32 {
     let lp = length(p);
-    if lp > bound {
+    if lp > 1.25 * bound {
         return lp - bound;
     }
     var z = p;

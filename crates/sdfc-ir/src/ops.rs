@@ -183,8 +183,8 @@ pub enum Helper {
     SdTriPrism,
     /// `(p, h)`: pyramid with the square base [-0.5, 0.5]^2 on y = 0 and its apex at (0, h, 0).
     SdPyramid,
-    /// `(p, power, iterations, bound)`: the mandelbulb's distance estimate inside the sphere of
-    /// radius `bound`, the distance to that sphere outside.
+    /// `(p, power, iterations, bound)`: the mandelbulb's distance estimate; the set lies within
+    /// radius `bound`, and beyond `1.25 bound` the distance to that sphere is returned.
     SdMandelbulb,
     /// `(p, iterations)`: Menger sponge in the cube [-0.5, 0.5]^3.
     SdMenger,

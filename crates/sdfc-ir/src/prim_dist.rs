@@ -173,10 +173,12 @@ pub fn pyramid(p: V3, h: f64) -> f64 {
 }
 
 /// Mandelbulb of power `n` (pole along y), `iters` iterations, bailout radius 2: the
-/// estimate `0.5 r ln r / dr`; outside radius `bound` the distance to that sphere.
+/// estimate `0.5 r ln r / dr`. The set lies within radius `bound`; beyond `1.25 bound` the
+/// distance to that sphere is returned without iterating. (Not beyond `bound` itself: the
+/// sphere's distance is 0 on the sphere, and the marcher would stop there, on the sphere.)
 pub fn mandelbulb(p: V3, n: f64, iters: f64, bound: f64) -> f64 {
     let lp = len3(p);
-    if lp > bound {
+    if lp > 1.25 * bound {
         return lp - bound;
     }
     let mut z = p;

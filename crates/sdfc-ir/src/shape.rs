@@ -100,7 +100,8 @@ impl Prim {
     ///   menger and sierpinski (exact sign; the max of exact distances for menger, the distance
     ///   to the nearest level-n tetrahedron bounded by its face planes for sierpinski),
     ///   mandelbulb (the usual `0.5 r ln r / dr` estimate: an estimate believed to
-    ///   underestimate, not a proven bound; outside radius `bound` the sphere distance).
+    ///   underestimate, not a proven bound; beyond 1.25 times its bounding radius, the distance to the bounding
+    ///   sphere).
     pub fn exact(self) -> bool {
         !matches!(
             self,

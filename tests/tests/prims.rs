@@ -754,3 +754,15 @@ fn every_new_primitive_is_exact_or_documented_as_a_bound() {
         assert!(p.exact(), "{}", p.name());
     }
 }
+
+#[test]
+fn the_examples_compile_without_warnings() {
+    for name in ["primitives", "fractals"] {
+        let path = sdfc_tests::root().join(format!("../examples/{name}.sdf"));
+        let src = std::fs::read_to_string(&path).unwrap();
+        match compile(&src, &Options::default()) {
+            Ok(c) => assert!(c.warnings.is_empty(), "{name}: {:?}", c.warnings),
+            Err(e) => panic!("{name}: {e:?}"),
+        }
+    }
+}

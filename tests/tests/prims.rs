@@ -6,7 +6,8 @@
 //!   sign, point-triangle and point-box distances, the distance to a circle arc). A value
 //!   passes when `|eval - reference| <= REL * |reference| + ABS`, REL = 1e-6 and
 //!   ABS = 1e-9 (both are f64 computations; the absolute term covers values near zero).
-//! - bound shapes: the ellipsoid against its true distance found numerically; menger and
+//! - bound shapes: the ellipsoid against its true distance found numerically (and
+//!   `|d(p) - d(q)| <= |p - q|` on nearby pairs); menger and
 //!   sierpinski against independent membership tests (base-3 digits, barycentric binary
 //!   digits) for the sign and against sampled member and non-member points for the bound;
 //!   the mandelbulb for its bounding sphere, escape sign and finiteness.
@@ -451,6 +452,12 @@ fn ellipsoid_is_a_bound_with_the_right_sign() {
         if truth > 1e-3 {
             worst_ratio = worst_ratio.min(d.abs() / truth);
         }
+        let step = rng.point(-0.05, 0.05);
+        let q = [0, 1, 2].map(|i| p[i] + step[i]);
+        assert!(
+            (eval(&s, q) - d).abs() <= len(step) * (1.0 + 1e-9) + 1e-12,
+            "Lipschitz above 1 between {p:?} and {q:?}"
+        );
     }
     assert!(inside > 100, "only {inside} points inside");
     eprintln!(
@@ -623,9 +630,17 @@ fn mandelbulb_bounding_sphere_sign_and_finiteness() {
         // the sphere instead of the fractal.
         for k in 0..200 {
             let t = k as f64 * 0.1;
-            let dir = [t.cos() * (0.7 * t).sin(), (0.7 * t).cos(), t.sin() * (0.7 * t).sin()];
+            let dir = [
+                t.cos() * (0.7 * t).sin(),
+                (0.7 * t).cos(),
+                t.sin() * (0.7 * t).sin(),
+            ];
             let q = dir.map(|c| c * bound * 1.0001);
-            assert!(eval(&s, q) > 0.01, "{scene}: {} at {q:?} on the sphere", eval(&s, q));
+            assert!(
+                eval(&s, q) > 0.01,
+                "{scene}: {} at {q:?} on the sphere",
+                eval(&s, q)
+            );
         }
         let mut escaping = 0;
         for _ in 0..POINTS {

@@ -781,3 +781,30 @@ fn the_examples_compile_without_warnings() {
         }
     }
 }
+
+/// Zero sizes make flat or empty shapes, never NaN: the divisions are guarded.
+#[test]
+fn degenerate_sizes_stay_finite() {
+    let mut rng = Rng(26);
+    for scene in [
+        "cone(0, 1)",
+        "cone(1, 0)",
+        "capped_cone(0, 0, 0)",
+        "tri_prism(0, 1)",
+        "hex_prism(0, 0)",
+        "pyramid(0)",
+        "octahedron(0)",
+        "box_frame(1, 0)",
+        "box_frame(0, 0)",
+        "capped_torus(1, 0, 0)",
+        "capped_torus(0, 0, 90deg)",
+        "infinite_cylinder(0)",
+    ] {
+        let s = Shape::new(scene);
+        for _ in 0..200 {
+            let p = rng.point(-1.0, 1.0);
+            assert!(eval(&s, p).is_finite(), "{scene} at {p:?}");
+        }
+        assert!(eval(&s, [0.0; 3]).is_finite(), "{scene} at the origin");
+    }
+}

@@ -85,7 +85,7 @@ pub fn capped_cone(p: V3, h: f64, r1: f64, r2: f64) -> f64 {
 /// 1-Lipschitz functions that are negative exactly inside, `(|p / r| - 1) min(r)` and
 /// `|p| - max(r)` (the bounding sphere; it only helps outside).
 pub fn ellipsoid(p: V3, r: V3) -> f64 {
-    let r = r.map(|x| x.max(1e-20));
+    let r = r.map(|x| x.max(1e-6));
     let k = len3([p[0] / r[0], p[1] / r[1], p[2] / r[2]]);
     let d1 = (k - 1.0) * r[0].min(r[1]).min(r[2]);
     let d2 = len3(p) - r[0].max(r[1]).max(r[2]);

@@ -15,6 +15,7 @@ mod common;
 
 use common::{compile, renderer};
 use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::value::Value;
 
 const REL: f64 = 1e-5;
 const ABS: f64 = 2e-6;
@@ -37,9 +38,21 @@ impl Rng {
 /// Compares device and reference for `scene` at points of the cube [-size, size]^3;
 /// points whose reference value is within `skip_near` of zero are left out.
 fn check(scene: &str, size: f32, seed: u64, rel: f64, skip_near: f64) {
+    check_with("", scene, size, seed, rel, skip_near)
+}
+
+/// `check` with items (params) above the scene.
+fn check_with(items: &str, scene: &str, size: f32, seed: u64, rel: f64, skip_near: f64) {
     let Some(r) = renderer() else { return };
-    let compiled = compile(scene, &format!("scene = {scene};\n"));
+    let compiled = compile(scene, &format!("{items}\nscene = {scene};\n"));
     let program = compiled.program();
+    // The params' defaults, which the device uses when none is overridden.
+    let defaults: Vec<Value<f64>> = program
+        .scene
+        .params
+        .iter()
+        .map(|p| p.default.cast())
+        .collect();
     let mut rng = Rng(seed);
     let pts: Vec<[f32; 3]> = (0..POINTS)
         .map(|_| [0; 3].map(|_| size * (2.0 * rng.next() as f32 - 1.0)))
@@ -51,7 +64,11 @@ fn check(scene: &str, size: f32, seed: u64, rel: f64, skip_near: f64) {
     let mut failures = Vec::new();
     for (p, &g) in pts.iter().zip(&gpu) {
         let p64 = p.map(|c| c as f64);
-        let c = eval_func(&program.distance, &program.groups, &Inputs::at(p64))[0]
+        let inputs = Inputs {
+            params: defaults.clone(),
+            ..Inputs::at(p64)
+        };
+        let c = eval_func(&program.distance, &program.groups, &inputs)[0]
             .scalar()
             .unwrap();
         if c.abs() < skip_near {
@@ -120,5 +137,34 @@ fn mandelbulb_agrees_away_from_its_surface() {
         47,
         MANDELBULB_REL,
         0.05,
+    );
+}
+
+/// Zero sizes (flat or empty shapes) stay finite on both sides and agree; a zero ellipsoid
+/// radius can only come from a param (a constant one is an error).
+#[test]
+fn degenerate_sizes_agree() {
+    for scene in [
+        "cone(0, 1)",
+        "cone(1, 0)",
+        "capped_cone(0, 0, 0)",
+        "capped_cone(1, 0, 0)",
+        "tri_prism(0, 1)",
+        "hex_prism(0, 0)",
+        "pyramid(0)",
+        "octahedron(0)",
+        "box_frame(1, 0)",
+        "capped_torus(1, 0, 0)",
+        "infinite_cylinder(0)",
+    ] {
+        check(scene, 1.2, 48, REL, 0.0);
+    }
+    check_with(
+        "param radii = [1, 0, 0.5];",
+        "ellipsoid(radii)",
+        1.2,
+        49,
+        REL,
+        0.0,
     );
 }

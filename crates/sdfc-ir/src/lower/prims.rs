@@ -179,6 +179,7 @@ impl<'a> Lowerer<'a> {
                 self.arg_nonneg(e(1)?, scope, "the length")?,
             ],
             Prim::Pyramid => vec![self.arg_nonneg(e(0)?, scope, "the height")?],
+            // Bound by `fractal_call` above; this arm is never reached.
             Prim::Mandelbulb | Prim::Menger | Prim::Sierpinski => return Err(Reported),
         };
         Ok(ShapeKind::Prim { prim, args })

@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release -p sdfc-cli
 mkdir -p docs/images
-for scene in spec_section10 blob_floor; do
+for scene in spec_section10 blob_floor primitives fractals; do
     ./target/release/sdfc render "examples/$scene.sdf" -o "docs/images/$scene.png" --size 480x320
 done

@@ -28,12 +28,50 @@ pub fn primitive() -> impl Strategy<Value = String> {
         (vec3(-1.0, 1.0), num(-1.0, 1.0))
             .prop_map(|(n, h)| format!("plane({n} + [0, 0.01, 0], {h})")),
         num(0.2, 1.5).prop_map(|r| format!("sdf(|p| length(p) - {r})")),
+        more_primitives(),
+        (1u32..6).prop_map(|i| format!("menger(iterations: {i})")),
+        (1u32..12).prop_map(|i| format!("sierpinski(iterations: {i})")),
     ]
+}
+
+/// The primitives of the shape library beyond the first seven.
+pub fn more_primitives() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0.4f64..2.0, 0.0f64..1.0)
+            .prop_map(|(s, f)| format!("box_frame({s:.3}, {:.3})", s * 0.5 * f)),
+        (num(0.5, 2.0), num(0.05, 0.4), num(0.0, 180.0))
+            .prop_map(|(a, b, t)| format!("capped_torus({a}, {b}, {t}deg)")),
+        num(0.1, 1.0).prop_map(|r| format!("infinite_cylinder({r})")),
+        (num(0.0, 1.0), num(0.0, 2.0)).prop_map(|(r, h)| format!("cone({r}, {h})")),
+        (num(0.0, 2.0), num(0.0, 1.0), num(0.0, 1.0))
+            .prop_map(|(h, a, b)| format!("capped_cone({h}, {a}, {b})")),
+        vec3(0.05, 1.5).prop_map(|r| format!("ellipsoid({r})")),
+        num(0.0, 2.0).prop_map(|s| format!("octahedron({s})")),
+        (num(0.0, 1.0), num(0.0, 2.0)).prop_map(|(r, h)| format!("hex_prism({r}, {h})")),
+        (num(0.0, 1.0), num(0.0, 2.0)).prop_map(|(r, h)| format!("tri_prism({r}, {h})")),
+        num(0.0, 2.0).prop_map(|h| format!("pyramid({h})")),
+    ]
+}
+
+/// The mandelbulb, apart: its orbit is chaotic near the surface, so f32 (GPU) and f64 (CPU)
+/// evaluations part by up to 1e-3 there, and the GPU agreement test leaves it out (its own
+/// test in `crates/sdfc-render/tests/prims_gpu.rs` states that tolerance).
+pub fn mandelbulb() -> impl Strategy<Value = String> {
+    (num(2.0, 12.0), 1u32..10).prop_map(|(n, i)| format!("mandelbulb(power: {n}, iterations: {i})"))
 }
 
 /// A shape expression: primitives under up to four levels of operations.
 pub fn shape() -> impl Strategy<Value = String> {
-    primitive().prop_recursive(4, 24, 3, |inner| {
+    shape_of(prop_oneof![4 => primitive(), 1 => mandelbulb()].boxed())
+}
+
+/// Like [`shape`], without the mandelbulb: for comparisons of f32 with f64 at 1e-5.
+pub fn shape_without_mandelbulb() -> impl Strategy<Value = String> {
+    shape_of(primitive().boxed())
+}
+
+fn shape_of(leaves: BoxedStrategy<String>) -> impl Strategy<Value = String> {
+    leaves.prop_recursive(4, 24, 3, |inner| {
         prop_oneof![
             (
                 inner.clone(),

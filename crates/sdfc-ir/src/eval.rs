@@ -259,6 +259,32 @@ fn f<T: Float>(v: &Value<T>) -> T {
     v.scalar().unwrap_or(T::zero())
 }
 
+/// The helpers of `prim_dist`, in f64 (see there why that is safe for folding).
+fn later_prim<T: Float>(h: Helper, a: &[Value<T>]) -> f64 {
+    use crate::prim_dist as d;
+    let p = v3(&a[0]).map(|x| x.to_f64());
+    let x = |i: usize| f(&a[i]).to_f64();
+    let v = |i: usize| v3(&a[i]).map(|c| c.to_f64());
+    match h {
+        Helper::SdBoxFrame => d::box_frame(p, v(1), x(2)),
+        Helper::SdCappedTorus => {
+            let sc = a[1].comps();
+            let (s, c) = (sc[0].to_f64(), sc.get(1).map_or(0.0, |c| c.to_f64()));
+            d::capped_torus(p, s, c, x(2), x(3))
+        }
+        Helper::SdCappedCone => d::capped_cone(p, x(1), x(2), x(3)),
+        Helper::SdEllipsoid => d::ellipsoid(p, v(1)),
+        Helper::SdOctahedron => d::octahedron(p, x(1)),
+        Helper::SdHexPrism => d::hex_prism(p, x(1), x(2)),
+        Helper::SdTriPrism => d::tri_prism(p, x(1), x(2)),
+        Helper::SdPyramid => d::pyramid(p, x(1)),
+        Helper::SdMandelbulb => d::mandelbulb(p, x(1), x(2), x(3)),
+        Helper::SdMenger => d::menger(p, x(1)),
+        Helper::SdSierpinski => d::sierpinski(p, x(1)),
+        _ => 0.0,
+    }
+}
+
 /// The distance helpers, computed exactly as `shaders/prims/*.wgsl` spell them.
 fn helper<T: Float>(h: Helper, a: &[Value<T>]) -> T {
     let zero = T::zero();
@@ -284,6 +310,17 @@ fn helper<T: Float>(h: Helper, a: &[Value<T>]) -> T {
             d[0].max(d[1]).min(zero) + length(&d.map(|x| x.max(zero)))
         }
         Helper::RotateX | Helper::RotateY | Helper::RotateZ => zero,
+        Helper::SdBoxFrame
+        | Helper::SdCappedTorus
+        | Helper::SdCappedCone
+        | Helper::SdEllipsoid
+        | Helper::SdOctahedron
+        | Helper::SdHexPrism
+        | Helper::SdTriPrism
+        | Helper::SdPyramid
+        | Helper::SdMandelbulb
+        | Helper::SdMenger
+        | Helper::SdSierpinski => T::from_f64(later_prim(h, a)),
         Helper::Noise => crate::noise::noise(p),
         Helper::SdCapsule => {
             let (ea, eb) = (v3(&a[1]), v3(&a[2]));

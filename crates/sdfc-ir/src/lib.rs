@@ -12,6 +12,7 @@ pub mod lower;
 pub mod noise;
 pub mod ops;
 pub mod passes;
+pub mod prim_dist;
 pub mod scene;
 pub mod shape;
 pub mod to_ssa;

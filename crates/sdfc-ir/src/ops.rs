@@ -163,6 +163,33 @@ pub enum Helper {
     SdCylinder,
     /// `(p, a, b, r)`
     SdCapsule,
+    /// `(p, half_size: vec3, w)`: the edges of a box, bars of square cross-section w x w
+    /// flush with the box's faces.
+    SdBoxFrame,
+    /// `(p, sc: vec2, major, minor)`: a torus arc in the xy plane covering the angles within
+    /// the half-angle (`sc` its sine and cosine, the angle in [0, pi]) of +y.
+    SdCappedTorus,
+    /// `(p, half_height, r_bottom, r_top)`: a frustum along y from -half_height to
+    /// +half_height (a cone when r_top is 0).
+    SdCappedCone,
+    /// `(p, radii: vec3)`: a lower bound of the distance to an ellipsoid.
+    SdEllipsoid,
+    /// `(p, s)`: the octahedron `|x| + |y| + |z| <= s`.
+    SdOctahedron,
+    /// `(p, r, half_length)`: hexagonal prism along z, inradius r, flat faces at y = +-r.
+    SdHexPrism,
+    /// `(p, r, half_length)`: triangular prism along z, an equilateral triangle of inradius r
+    /// pointing to +y with its centroid on the axis.
+    SdTriPrism,
+    /// `(p, h)`: pyramid with the square base [-0.5, 0.5]^2 on y = 0 and its apex at (0, h, 0).
+    SdPyramid,
+    /// `(p, power, iterations, bound)`: the mandelbulb's distance estimate; the set lies within
+    /// radius `bound`, and beyond `1.25 bound` the distance to that sphere is returned.
+    SdMandelbulb,
+    /// `(p, iterations)`: Menger sponge in the cube [-0.5, 0.5]^3.
+    SdMenger,
+    /// `(p, iterations)`: Sierpinski tetrahedron on alternate corners of [-0.5, 0.5]^3.
+    SdSierpinski,
     /// `(p, c, s)`: `p` turned by the inverse of a rotation about x with cosine `c` and sine `s`
     /// (what a constant `rotate_x` does to the point); the same numbers as the matrix product.
     RotateX,
@@ -182,6 +209,17 @@ impl Helper {
         Helper::SdTorus,
         Helper::SdCylinder,
         Helper::SdCapsule,
+        Helper::SdBoxFrame,
+        Helper::SdCappedTorus,
+        Helper::SdCappedCone,
+        Helper::SdEllipsoid,
+        Helper::SdOctahedron,
+        Helper::SdHexPrism,
+        Helper::SdTriPrism,
+        Helper::SdPyramid,
+        Helper::SdMandelbulb,
+        Helper::SdMenger,
+        Helper::SdSierpinski,
         Helper::RotateX,
         Helper::RotateY,
         Helper::RotateZ,
@@ -197,6 +235,17 @@ impl Helper {
             Helper::SdTorus => "sd_torus",
             Helper::SdCylinder => "sd_cylinder",
             Helper::SdCapsule => "sd_capsule",
+            Helper::SdBoxFrame => "sd_box_frame",
+            Helper::SdCappedTorus => "sd_capped_torus",
+            Helper::SdCappedCone => "sd_capped_cone",
+            Helper::SdEllipsoid => "sd_ellipsoid",
+            Helper::SdOctahedron => "sd_octahedron",
+            Helper::SdHexPrism => "sd_hex_prism",
+            Helper::SdTriPrism => "sd_tri_prism",
+            Helper::SdPyramid => "sd_pyramid",
+            Helper::SdMandelbulb => "sd_mandelbulb",
+            Helper::SdMenger => "sd_menger",
+            Helper::SdSierpinski => "sd_sierpinski",
             Helper::RotateX => "rotate_x",
             Helper::RotateY => "rotate_y",
             Helper::RotateZ => "rotate_z",

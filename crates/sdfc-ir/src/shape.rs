@@ -31,6 +31,33 @@ pub enum Prim {
     Cylinder,
     /// `[a: vec3, b: vec3, r]`
     Capsule,
+    /// `[size: vec3, e]`: the twelve edges of a box of full size `size`, as square bars of
+    /// side `e` flush with its faces.
+    BoxFrame,
+    /// `[R, r, angle]`: a torus arc in the xy plane, the angles within `angle` of +y.
+    CappedTorus,
+    /// `[r]`: along y.
+    InfiniteCylinder,
+    /// `[r, h]`: base radius r at y = 0, apex at y = h.
+    Cone,
+    /// `[h, r1, r2]`: frustum along y from -h/2 (radius r1) to h/2 (radius r2).
+    CappedCone,
+    /// `[radii: vec3]`: semi-axes.
+    Ellipsoid,
+    /// `[s]`: full size, vertices at distance s/2 on the axes.
+    Octahedron,
+    /// `[r, h]`: along z, inradius r, length h.
+    HexPrism,
+    /// `[r, h]`: along z, equilateral triangle of inradius r pointing to +y, length h.
+    TriPrism,
+    /// `[h]`: square base [-0.5, 0.5]^2 on y = 0, apex at y = h.
+    Pyramid,
+    /// `[power, iterations, bound radius]`, all compile-time constants.
+    Mandelbulb,
+    /// `[iterations]`: in the cube of side 1.
+    Menger,
+    /// `[iterations]`: on alternate corners of the cube of side 1.
+    Sierpinski,
 }
 
 impl Prim {
@@ -43,7 +70,43 @@ impl Prim {
             Prim::Torus => "torus",
             Prim::Cylinder => "cylinder",
             Prim::Capsule => "capsule",
+            Prim::BoxFrame => "box_frame",
+            Prim::CappedTorus => "capped_torus",
+            Prim::InfiniteCylinder => "infinite_cylinder",
+            Prim::Cone => "cone",
+            Prim::CappedCone => "capped_cone",
+            Prim::Ellipsoid => "ellipsoid",
+            Prim::Octahedron => "octahedron",
+            Prim::HexPrism => "hex_prism",
+            Prim::TriPrism => "tri_prism",
+            Prim::Pyramid => "pyramid",
+            Prim::Mandelbulb => "mandelbulb",
+            Prim::Menger => "menger",
+            Prim::Sierpinski => "sierpinski",
         }
+    }
+
+    /// True when the primitive's formula is the exact Euclidean signed distance everywhere
+    /// (inside and outside); false when it is only a bound: the sign is right and
+    /// `|d| <= true distance`, with Lipschitz constant at most 1.
+    ///
+    /// - exact: sphere, box, round_box, plane, torus, cylinder, capsule, box_frame (the
+    ///   interior at the corner cubes is computed exactly too), capped_torus,
+    ///   infinite_cylinder, cone, capped_cone, octahedron, hex_prism, tri_prism and pyramid
+    ///   (both exact inside as well as outside: 2D polygon distances, not the max-of-planes
+    ///   bounds).
+    /// - bound: ellipsoid (`max((|p / radii| - 1) * min(radii), |p| - max(radii))`, each term a
+    ///   1-Lipschitz function that vanishes on the surface only where the ellipsoid does),
+    ///   menger and sierpinski (exact sign; the max of exact distances for menger, the distance
+    ///   to the nearest level-n tetrahedron bounded by its face planes for sierpinski),
+    ///   mandelbulb (the usual `0.5 r ln r / dr` estimate: an estimate believed to
+    ///   underestimate, not a proven bound; beyond 1.25 times its bounding radius, the distance to the bounding
+    ///   sphere).
+    pub fn exact(self) -> bool {
+        !matches!(
+            self,
+            Prim::Ellipsoid | Prim::Mandelbulb | Prim::Menger | Prim::Sierpinski
+        )
     }
 }
 

@@ -338,6 +338,57 @@ impl<'s> Builder<'s> {
                 self.op(Op::Helper(Helper::SdCylinder), &[p, a[0], h])
             }
             Prim::Capsule => self.op(Op::Helper(Helper::SdCapsule), &[p, a[0], a[1], a[2]]),
+            Prim::BoxFrame => {
+                let b = self.op(Op::Mul, &[a[0], half]);
+                self.op(Op::Helper(Helper::SdBoxFrame), &[p, b, a[1]])
+            }
+            Prim::CappedTorus => {
+                // The angle is clamped to [0, pi], where the arc test is valid; the upper end
+                // is the f32 just below pi, whose sine is positive (f32 pi's is negative,
+                // which would cut a sliver along +y out of the full ring).
+                let below_pi = f32::from_bits(std::f32::consts::PI.to_bits() - 1);
+                let (lo, hi) = (self.f(0.0), self.f(below_pi));
+                let angle = self.g.builtin(Builtin::Clamp, &[a[2], lo, hi]);
+                let s = self.g.builtin(Builtin::Sin, &[angle]);
+                let c = self.g.builtin(Builtin::Cos, &[angle]);
+                let sc = self.op(Op::MakeVec, &[s, c]);
+                self.op(Op::Helper(Helper::SdCappedTorus), &[p, sc, a[0], a[1]])
+            }
+            Prim::InfiniteCylinder => {
+                let xz = self.op(Op::Swizzle(Swizzle::new(&[0, 2])), &[p]);
+                let l = self.g.builtin(Builtin::Length, &[xz]);
+                self.op(Op::Sub, &[l, a[0]])
+            }
+            Prim::Cone => {
+                // The frustum from y = 0 (radius r) to y = h (radius 0), centred first.
+                let hh = self.op(Op::Mul, &[a[1], half]);
+                let zero = self.f(0.0);
+                let centre = self.op(Op::MakeVec, &[zero, hh, zero]);
+                let q = self.op(Op::Sub, &[p, centre]);
+                self.op(Op::Helper(Helper::SdCappedCone), &[q, hh, a[0], zero])
+            }
+            Prim::CappedCone => {
+                let hh = self.op(Op::Mul, &[a[0], half]);
+                self.op(Op::Helper(Helper::SdCappedCone), &[p, hh, a[1], a[2]])
+            }
+            Prim::Ellipsoid => self.op(Op::Helper(Helper::SdEllipsoid), &[p, a[0]]),
+            Prim::Octahedron => {
+                let s = self.op(Op::Mul, &[a[0], half]);
+                self.op(Op::Helper(Helper::SdOctahedron), &[p, s])
+            }
+            Prim::HexPrism | Prim::TriPrism => {
+                let h = self.op(Op::Mul, &[a[1], half]);
+                let helper = if prim == Prim::HexPrism {
+                    Helper::SdHexPrism
+                } else {
+                    Helper::SdTriPrism
+                };
+                self.op(Op::Helper(helper), &[p, a[0], h])
+            }
+            Prim::Pyramid => self.op(Op::Helper(Helper::SdPyramid), &[p, a[0]]),
+            Prim::Mandelbulb => self.op(Op::Helper(Helper::SdMandelbulb), &[p, a[0], a[1], a[2]]),
+            Prim::Menger => self.op(Op::Helper(Helper::SdMenger), &[p, a[0]]),
+            Prim::Sierpinski => self.op(Op::Helper(Helper::SdSierpinski), &[p, a[0]]),
         }
     }
 

@@ -1,6 +1,7 @@
 //! Property: for randomly generated valid scenes (the generator of `sdfc_tests::random_scene`,
-//! every shape and operation this version implements), the emitted WGSL evaluated on the
-//! device agrees with the f64 reference evaluator at random points.
+//! every shape and operation this version implements but the mandelbulb, whose chaotic orbit
+//! has its own tolerance in `prims_gpu.rs`), the emitted WGSL evaluated on the device agrees
+//! with the f64 reference evaluator at random points.
 //!
 //! Tolerance: `|gpu - cpu| <= 1e-5 * |cpu| + 2e-6`, the same as the corpus test
 //! (`eval_gpu.rs`). Over the 200 cases (200 points each) the worst absolute error measured on
@@ -12,7 +13,7 @@ use common::eval_check::{agree, Tolerance};
 use common::renderer;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
-use sdfc_tests::random_scene::shape;
+use sdfc_tests::random_scene::shape_without_mandelbulb;
 
 thread_local! {
     /// The worst (relative, absolute) error over the cases so far, printed for the record.
@@ -31,7 +32,7 @@ proptest! {
 
     #[test]
     fn random_scenes_agree_on_the_device(
-        scene in shape(),
+        scene in shape_without_mandelbulb(),
         pts in prop::collection::vec(prop::array::uniform3(-4.0f32..4.0), 200),
     ) {
         let Some(r) = renderer() else { return Ok(()) };

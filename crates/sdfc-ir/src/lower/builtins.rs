@@ -19,6 +19,19 @@ pub const SHAPE_FUNCTIONS: &[&str] = &[
     "torus",
     "cylinder",
     "capsule",
+    "box_frame",
+    "capped_torus",
+    "infinite_cylinder",
+    "cone",
+    "capped_cone",
+    "ellipsoid",
+    "octahedron",
+    "hex_prism",
+    "tri_prism",
+    "pyramid",
+    "mandelbulb",
+    "menger",
+    "sierpinski",
     "sdf",
     "union",
     "intersect",
@@ -43,26 +56,7 @@ pub const SHAPE_FUNCTIONS: &[&str] = &[
 ];
 
 /// Part of the language (spec sections 3-5) but not built in this version yet.
-pub const NOT_YET: &[&str] = &[
-    "capped_torus",
-    "infinite_cylinder",
-    "cone",
-    "capped_cone",
-    "ellipsoid",
-    "octahedron",
-    "hex_prism",
-    "tri_prism",
-    "pyramid",
-    "heightfield",
-    "mandelbulb",
-    "menger",
-    "sierpinski",
-    "stretch",
-    "shear",
-    "twist",
-    "bend",
-    "warp",
-];
+pub const NOT_YET: &[&str] = &["heightfield", "stretch", "shear", "twist", "bend", "warp"];
 
 /// The math built-ins users may call (`round` is the shape operation, not WGSL's).
 fn user_math(name: &str) -> Option<Builtin> {

@@ -5,6 +5,7 @@ mod args;
 mod builtins;
 pub mod expansion;
 mod expr;
+mod prims;
 mod scope;
 mod settings;
 mod shapes;

@@ -5,7 +5,7 @@ use super::{Lowerer, Reported, R};
 use crate::graph::NodeId;
 use crate::ops::{Builtin, Op};
 use crate::scene::{limits, Material};
-use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
+use crate::shape::{CombineOp, DistMod, PointMap, ShapeId, ShapeKind};
 use crate::types::Ty;
 use crate::value::Value;
 use sdfc_syntax::ast::{Arg, Expr, ExprKind, Ident};
@@ -100,7 +100,7 @@ impl<'a> Lowerer<'a> {
                 ShapeKind::Material { material, child }
             }
             _ => {
-                if let Some(prim) = prim_by_name(name) {
+                if let Some(prim) = super::prims::prim_by_name(name) {
                     self.prim_call(prim, args, span, scope)?
                 } else {
                     self.transform_call(name, args, span, scope)?
@@ -108,81 +108,6 @@ impl<'a> Lowerer<'a> {
             }
         };
         Ok(Val::Shape(self.shape(s, span)))
-    }
-
-    fn prim_call(
-        &mut self,
-        prim: Prim,
-        args: &'a [Arg],
-        span: Span,
-        scope: &Rc<Scope<'a>>,
-    ) -> R<ShapeKind> {
-        let name = prim.name();
-        let (names, sig): (&[&str], &str) = match prim {
-            Prim::Sphere => (&["r"], "sphere(r)"),
-            Prim::Box => (&["size"], "box(size)"),
-            Prim::RoundBox => (&["size", "r"], "round_box(size, r)"),
-            Prim::Plane => (&["normal", "h"], "plane(normal, h)"),
-            Prim::Torus => (&["R", "r"], "torus(R, r)"),
-            Prim::Cylinder => (&["r", "h"], "cylinder(r, h)"),
-            Prim::Capsule => (&["a", "b", "r"], "capsule(a, b, r)"),
-        };
-        let b = self.bind_args(name, sig, names, names.len(), args, span)?;
-        let e = |i: usize| b[i].ok_or(Reported);
-        let args = match prim {
-            Prim::Sphere => vec![self.arg_nonneg(e(0)?, scope, "the radius")?],
-            Prim::Box => vec![self.arg_size(e(0)?, scope, "the size of a box")?],
-            Prim::RoundBox => {
-                let size = self.arg_size(e(0)?, scope, "the size of a box")?;
-                let r = self.arg_nonneg(e(1)?, scope, "the rounding radius")?;
-                if let (Some(Value::V3(s)), Some(Value::F(r))) =
-                    (self.const_of(size), self.const_of(r))
-                {
-                    let half = s[0].min(s[1]).min(s[2]) * 0.5;
-                    if r > half {
-                        return Err(self.error(
-                            Diagnostic::error(e(1)?.span, format!("rounding radius {r} is more than half the box's smallest side ({half})"))
-                                .with_label("too large")
-                                .with_hint("the outer size stays `size`, so r can be at most half of its smallest component"),
-                        ));
-                    }
-                }
-                vec![size, r]
-            }
-            Prim::Plane => {
-                let ne = e(0)?;
-                let n = self.arg_vec3(ne, scope, "the plane's normal")?;
-                let n = match self.const_of(n) {
-                    Some(Value::V3(v)) => {
-                        let l = v.iter().map(|x| (*x as f64).powi(2)).sum::<f64>().sqrt();
-                        if l == 0.0 {
-                            return Err(self.error(
-                                Diagnostic::error(ne.span, "the plane's normal is the zero vector")
-                                    .with_label("has no direction")
-                                    .with_hint("use for example `[0, 1, 0]` for a floor"),
-                            ));
-                        }
-                        self.g.vec3(v.map(|x| (x as f64 / l) as f32))
-                    }
-                    _ => self.g.builtin(Builtin::Normalize, &[n]),
-                };
-                vec![n, self.arg_num(e(1)?, scope, "the plane's offset `h`")?]
-            }
-            Prim::Torus => vec![
-                self.arg_nonneg(e(0)?, scope, "the major radius")?,
-                self.arg_nonneg(e(1)?, scope, "the tube radius")?,
-            ],
-            Prim::Cylinder => vec![
-                self.arg_nonneg(e(0)?, scope, "the radius")?,
-                self.arg_nonneg(e(1)?, scope, "the height")?,
-            ],
-            Prim::Capsule => vec![
-                self.arg_vec3(e(0)?, scope, "the capsule's end `a`")?,
-                self.arg_vec3(e(1)?, scope, "the capsule's end `b`")?,
-                self.arg_nonneg(e(2)?, scope, "the radius")?,
-            ],
-        };
-        Ok(ShapeKind::Prim { prim, args })
     }
 
     fn transform_call(
@@ -671,14 +596,14 @@ impl<'a> Lowerer<'a> {
         self.expect_shape(v, e.span, &format!("this argument of `{fname}`"))
     }
 
-    fn arg_num(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
+    pub(super) fn arg_num(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
         let v = self.expr(e, scope)?;
         let n = self.expect_num(v, e.span, what)?;
         self.check_finite(n, e.span, what)
     }
 
     /// A constant argument must be finite: `1 / 0` is an error where it is written.
-    fn check_finite(&mut self, n: NodeId, span: Span, what: &str) -> R<NodeId> {
+    pub(super) fn check_finite(&mut self, n: NodeId, span: Span, what: &str) -> R<NodeId> {
         match self.const_of(n) {
             Some(v) if !v.all_finite() => Err(self.error(
                 Diagnostic::error(span, format!("{what} is not finite"))
@@ -689,13 +614,18 @@ impl<'a> Lowerer<'a> {
         }
     }
 
-    fn arg_nonneg(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
+    pub(super) fn arg_nonneg(
+        &mut self,
+        e: &'a Expr,
+        scope: &Rc<Scope<'a>>,
+        what: &str,
+    ) -> R<NodeId> {
         let n = self.arg_num(e, scope, what)?;
         self.check_nonneg(n, e.span, what)?;
         Ok(n)
     }
 
-    fn opt_nonneg(
+    pub(super) fn opt_nonneg(
         &mut self,
         e: Option<&'a Expr>,
         scope: &Rc<Scope<'a>>,
@@ -704,7 +634,7 @@ impl<'a> Lowerer<'a> {
         e.map(|e| self.arg_nonneg(e, scope, what)).transpose()
     }
 
-    fn check_nonneg(&mut self, n: NodeId, span: Span, what: &str) -> R<()> {
+    pub(super) fn check_nonneg(&mut self, n: NodeId, span: Span, what: &str) -> R<()> {
         if let Some(v) = self.const_of(n) {
             if v.comps().iter().any(|x| *x < 0.0) {
                 let shown = match v {
@@ -739,7 +669,7 @@ impl<'a> Lowerer<'a> {
     }
 
     /// A size: a vec3, or a number meaning the same on every axis; never negative.
-    fn arg_size(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
+    pub(super) fn arg_size(&mut self, e: &'a Expr, scope: &Rc<Scope<'a>>, what: &str) -> R<NodeId> {
         let n = match self.expr(e, scope)? {
             Val::Num(n) if self.g.ty(n) == Ty::Vec3 => n,
             Val::Num(n) if self.g.ty(n) == Ty::F32 => self.g.splat(n, Ty::Vec3),
@@ -775,17 +705,4 @@ impl<'a> Lowerer<'a> {
             )),
         }
     }
-}
-
-fn prim_by_name(name: &str) -> Option<Prim> {
-    Some(match name {
-        "sphere" => Prim::Sphere,
-        "box" => Prim::Box,
-        "round_box" => Prim::RoundBox,
-        "plane" => Prim::Plane,
-        "torus" => Prim::Torus,
-        "cylinder" => Prim::Cylinder,
-        "capsule" => Prim::Capsule,
-        _ => return None,
-    })
 }

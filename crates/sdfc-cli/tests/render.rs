@@ -172,6 +172,38 @@ fn a_bad_backend_choice_is_an_environment_error() {
     assert!(run.stderr.contains("SDFC_BACKEND"), "{}", run.describe());
 }
 
+/// No adapter at all: Vulkan asked for, and the Vulkan loader pointed at a driver list that
+/// does not exist. Exit status 2 with the reason, never a panic or a hang.
+#[test]
+fn no_adapter_is_an_environment_error() {
+    let t = TempDir::new("no-adapter");
+    let scene = t.write("s.sdf", SPHERE);
+    let none = t.path("no-such-icd.json");
+    let run = sdfc_env(
+        &t.0,
+        &[
+            "render",
+            s(&scene),
+            "-o",
+            s(&t.path("o.png")),
+            "--size",
+            "8x8",
+        ],
+        &[
+            ("SDFC_BACKEND", "vulkan"),
+            ("VK_ICD_FILENAMES", s(&none)),
+            ("VK_DRIVER_FILES", s(&none)),
+        ],
+    )
+    .expect_code(2);
+    assert!(
+        run.stderr.contains("no usable graphics adapter"),
+        "{}",
+        run.describe()
+    );
+    assert!(!t.path("o.png").exists());
+}
+
 #[test]
 fn broken_scene_and_unknown_param_are_input_errors() {
     let t = TempDir::new("input");

@@ -12,6 +12,7 @@ use common::{compile, compile_file, renderer};
 const TOL: Tolerance = Tolerance {
     rel: 1e-5,
     abs: 2e-6,
+    skip_near: 0.0,
 };
 const POINTS: usize = 3000;
 

@@ -13,27 +13,13 @@
 
 mod common;
 
+use common::eval_check::{agree, points, Tolerance};
 use common::{compile, renderer};
-use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_ir::value::Value;
 
 const REL: f64 = 1e-5;
 const ABS: f64 = 2e-6;
 const POINTS: usize = 400;
 const MANDELBULB_REL: f64 = 5e-3;
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// Compares device and reference for `scene` at points of the cube [-size, size]^3;
 /// points whose reference value is within `skip_near` of zero are left out.
@@ -45,60 +31,27 @@ fn check(scene: &str, size: f32, seed: u64, rel: f64, skip_near: f64) {
 fn check_with(items: &str, scene: &str, size: f32, seed: u64, rel: f64, skip_near: f64) {
     let Some(r) = renderer() else { return };
     let compiled = compile(scene, &format!("{items}\nscene = {scene};\n"));
-    let program = compiled.program();
-    // The params' defaults, which the device uses when none is overridden.
-    let defaults: Vec<Value<f64>> = program
-        .scene
-        .params
-        .iter()
-        .map(|p| p.default.cast())
-        .collect();
-    let mut rng = Rng(seed);
-    let pts: Vec<[f32; 3]> = (0..POINTS)
-        .map(|_| [0; 3].map(|_| size * (2.0 * rng.next() as f32 - 1.0)))
-        .collect();
-    let gpu = r
-        .eval_gpu(program, &pts, 0.0, &[])
-        .unwrap_or_else(|e| panic!("{scene}: {e}"));
-    let (mut worst_rel, mut worst_abs, mut compared) = (0f64, 0f64, 0);
-    let mut failures = Vec::new();
-    for (p, &g) in pts.iter().zip(&gpu) {
-        let p64 = p.map(|c| c as f64);
-        let inputs = Inputs {
-            params: defaults.clone(),
-            ..Inputs::at(p64)
-        };
-        let c = eval_func(&program.distance, &program.groups, &inputs)[0]
-            .scalar()
-            .unwrap();
-        if c.abs() < skip_near {
-            continue;
+    let pts = points(seed, POINTS, [-size; 3], [size; 3]);
+    let tol = Tolerance {
+        rel,
+        abs: ABS,
+        skip_near,
+    };
+    match agree(r, &compiled, &pts, 0.0, &[], tol) {
+        Ok(a) => {
+            eprintln!(
+                "{scene}: {} points, worst relative error {:.1e} (|d| > 1e-3), worst absolute \
+                 {:.1e}",
+                a.compared, a.worst_rel, a.worst_abs
+            );
+            assert!(
+                a.compared > POINTS / 2,
+                "{scene}: only {} points compared",
+                a.compared
+            );
         }
-        compared += 1;
-        let err = (g as f64 - c).abs();
-        worst_abs = worst_abs.max(err);
-        if c.abs() > 1e-3 {
-            worst_rel = worst_rel.max(err / c.abs());
-        }
-        if err.is_nan() || err > rel * c.abs() + ABS {
-            failures.push((*p, g, c));
-        }
+        Err(e) => panic!("{scene}: {e}"),
     }
-    eprintln!(
-        "{scene}: {compared} points, worst relative error {worst_rel:.1e} (|d| > 1e-3), \
-         worst absolute {worst_abs:.1e}"
-    );
-    assert!(
-        compared > POINTS / 2,
-        "{scene}: only {compared} points compared"
-    );
-    assert!(
-        failures.is_empty(),
-        "{scene}: {} of {compared} points off by more than {rel:e} relative + {ABS:e}; \
-         first (point, gpu, cpu): {:?}",
-        failures.len(),
-        &failures[..failures.len().min(5)]
-    );
 }
 
 #[test]

@@ -8,9 +8,12 @@ use crate::hash::FxHashMap;
 use crate::ops::{Builtin, Helper, Op, Swizzle};
 use crate::passes::fold::const_value;
 use crate::scene::{Material, Scene};
+use crate::analysis::NodeInfo;
 use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
 use crate::value::Value;
+
+mod warp;
 
 /// The material of a point: `albedo` (rgb, reflectivity) and `phong` (ambient, diffuse,
 /// specular, shininess), both vec4.
@@ -33,8 +36,10 @@ pub struct Functions {
 
 /// Builds `scene_distance` and `scene_material` (and their group functions).
 pub fn functions(scene: &Scene) -> Functions {
+    let analysis = crate::analysis::analyse(scene, false);
+    let info = &analysis.nodes[..];
     let mut groups = Groups::default();
-    let mut b = Builder::new(scene, false, groups);
+    let mut b = Builder::new(scene, info, false, groups);
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
     let distance = Func {
@@ -44,7 +49,7 @@ pub fn functions(scene: &Scene) -> Functions {
         results: vec![d],
     };
     groups = b.groups;
-    let mut b = Builder::new(scene, true, groups);
+    let mut b = Builder::new(scene, info, true, groups);
     let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
     let m = m.unwrap_or_else(|| b.material_const(0));
@@ -71,6 +76,8 @@ struct Groups {
 
 struct Builder<'s> {
     scene: &'s Scene,
+    /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes.
+    info: &'s [NodeInfo],
     g: Graph,
     materials: bool,
     imported: FxHashMap<NodeId, NodeId>,
@@ -80,9 +87,10 @@ struct Builder<'s> {
 }
 
 impl<'s> Builder<'s> {
-    fn new(scene: &'s Scene, materials: bool, groups: Groups) -> Builder<'s> {
+    fn new(scene: &'s Scene, info: &'s [NodeInfo], materials: bool, groups: Groups) -> Builder<'s> {
         Builder {
             scene,
+            info,
             g: Graph::new(),
             materials,
             imported: FxHashMap::default(),
@@ -105,7 +113,12 @@ impl<'s> Builder<'s> {
         let index = match self.groups.index.get(&key) {
             Some(i) => *i,
             None => {
-                let mut sub = Builder::new(self.scene, true, std::mem::take(&mut self.groups));
+                let mut sub = Builder::new(
+                    self.scene,
+                    self.info,
+                    true,
+                    std::mem::take(&mut self.groups),
+                );
                 let sp = sub.point();
                 let (d, m) = sub.combine(CombineOp::Union, None, children, sp, mat);
                 let m = m.unwrap_or_else(|| sub.material_const(mat));
@@ -144,8 +157,8 @@ impl<'s> Builder<'s> {
     }
 
     /// Copies a value-graph node (and what it uses) into the function; lambda parameter
-    /// `(lambda, 0)` becomes `point` when `subst` is given.
-    fn import(&mut self, id: NodeId, subst: Option<(u32, NodeId)>) -> NodeId {
+    /// `(lambda, i)` becomes `args[i]` when `subst` is `Some((lambda, args))`.
+    fn import(&mut self, id: NodeId, subst: Option<(u32, &[NodeId])>) -> NodeId {
         let vals = &self.scene.values;
         let mut local: FxHashMap<NodeId, NodeId> = FxHashMap::default();
         let mut stack = vec![id];
@@ -177,7 +190,11 @@ impl<'s> Builder<'s> {
                 .map(|a| lookup(*a, &local, &self.imported))
                 .collect();
             let new = match (node.op, subst) {
-                (Op::LambdaArg { lambda, index: 0 }, Some((l, p))) if lambda == l => p,
+                (Op::LambdaArg { lambda, index }, Some((l, ps)))
+                    if lambda == l && (index as usize) < ps.len() =>
+                {
+                    ps[index as usize]
+                }
                 (Op::Param(_) | Op::LambdaArg { .. }, _) => {
                     self.g.input(node.op, node.ty, vals.span(n))
                 }
@@ -234,8 +251,9 @@ impl<'s> Builder<'s> {
                 body,
                 lambda,
                 lipschitz,
+                ..
             } => {
-                let d = self.import(*body, Some((*lambda, p)));
+                let d = self.import(*body, Some((*lambda, &[p])));
                 let l = self.import(*lipschitz, None);
                 let d = self.op(Op::Div, &[d, l]);
                 let d = self.hinted(d, "d");
@@ -248,8 +266,8 @@ impl<'s> Builder<'s> {
                 lipschitz,
             } => {
                 let (d, m) = self.shape(*child, p, mat);
-                let f = self.import(*body, Some((*lambda, p)));
-                let l = self.import(*lipschitz, None);
+                let f = self.import(*body, Some((*lambda, &[p])));
+                let l = self.divisor(s, *lipschitz);
                 let d = self.op(Op::Add, &[d, f]);
                 let d = self.op(Op::Div, &[d, l]);
                 (self.hinted(d, "d"), m)
@@ -276,6 +294,22 @@ impl<'s> Builder<'s> {
                 (self.hinted(d, "d"), m)
             }
             ShapeKind::Material { material, child } => self.shape(*child, p, *material),
+            ShapeKind::Warp {
+                map,
+                child,
+                lipschitz,
+            } => self.warp(s, *map, *child, *lipschitz, p, mat),
+            ShapeKind::Heightfield { body, lambda, .. } => {
+                // (p.y - h(p.x, p.z)) / sqrt(1 + L^2)
+                let x = self.op(Op::Swizzle(Swizzle::new(&[0])), &[p]);
+                let y = self.op(Op::Swizzle(Swizzle::new(&[1])), &[p]);
+                let z = self.op(Op::Swizzle(Swizzle::new(&[2])), &[p]);
+                let h = self.import(*body, Some((*lambda, &[x, z])));
+                let d = self.op(Op::Sub, &[y, h]);
+                let l = self.divisor(s, None);
+                let d = self.op(Op::Div, &[d, l]);
+                (self.hinted(d, "d"), self.materials.then(|| self.material_const(mat)))
+            }
         };
         self.memo.insert(key, out);
         out

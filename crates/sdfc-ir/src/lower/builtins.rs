@@ -40,6 +40,12 @@ pub const SHAPE_FUNCTIONS: &[&str] = &[
     "material",
     "color",
     "displace",
+    "stretch",
+    "shear",
+    "twist",
+    "bend",
+    "warp",
+    "heightfield",
 ];
 
 /// Part of the language (spec sections 3-5) but not built in this version yet.
@@ -53,15 +59,9 @@ pub const NOT_YET: &[&str] = &[
     "hex_prism",
     "tri_prism",
     "pyramid",
-    "heightfield",
     "mandelbulb",
     "menger",
     "sierpinski",
-    "stretch",
-    "shear",
-    "twist",
-    "bend",
-    "warp",
 ];
 
 /// The math built-ins users may call (`round` is the shape operation, not WGSL's).

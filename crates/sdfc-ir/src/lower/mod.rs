@@ -7,6 +7,7 @@ mod expr;
 mod scope;
 mod settings;
 mod shapes;
+mod warps;
 
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;

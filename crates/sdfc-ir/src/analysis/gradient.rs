@@ -13,13 +13,20 @@ use crate::value::Value;
 /// most 4; so at most 1 + 7.5 per axis, and `sqrt(3) * 8.5` for the gradient's norm.
 pub const NOISE_LIPSCHITZ: f64 = 14.73;
 
-/// One float component: its value interval and gradient-norm bound (`INFINITY` when the
-/// component is not Lipschitz in the point, or nothing bounds it).
+/// Upper bound on each partial derivative of `noise` (the per-axis bound above).
+const NOISE_PARTIAL: f64 = 8.5;
+
+/// One float component: its value interval and two bounds on its gradient, `g` on the
+/// norm and `v` on each partial derivative (`INFINITY` where the component is not
+/// Lipschitz in the point, or nothing bounds it). Each catches what the other loses:
+/// `length(p)` has `g` 1 but partials (1, 1, 1); an identity map has Jacobian rows whose
+/// norms give sqrt(3) but whose partials give the exact norm 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Comp {
     pub lo: f64,
     pub hi: f64,
     pub g: f64,
+    pub v: [f64; 3],
 }
 
 impl Comp {
@@ -27,15 +34,38 @@ impl Comp {
         lo: f64::NEG_INFINITY,
         hi: f64::INFINITY,
         g: f64::INFINITY,
+        v: [f64::INFINITY; 3],
     };
 
-    /// A point coordinate ranging over `[lo, hi]` (gradient a unit vector).
-    pub fn coord(lo: f64, hi: f64) -> Comp {
-        Comp { lo, hi, g: 1.0 }
+    /// Point coordinate `axis` ranging over `[lo, hi]`.
+    pub fn coord(axis: usize, lo: f64, hi: f64) -> Comp {
+        let mut v = [0.0; 3];
+        v[axis] = 1.0;
+        Comp { lo, hi, g: 1.0, v }
+    }
+
+    /// Something that does not depend on the point, with values in `[lo, hi]`.
+    pub fn fixed(lo: f64, hi: f64) -> Comp {
+        Comp {
+            lo,
+            hi,
+            g: 0.0,
+            v: [0.0; 3],
+        }
     }
 
     fn constant(x: f64) -> Comp {
-        Comp { lo: x, hi: x, g: 0.0 }
+        Comp::fixed(x, x)
+    }
+
+    /// The better of the two gradient-norm bounds.
+    pub fn slope(self) -> f64 {
+        self.g.min(norm(&self.v))
+    }
+
+    /// Both gradient bounds times `m` (a zero gradient stays zero).
+    fn scaled(self, m: f64) -> (f64, [f64; 3]) {
+        (scale(m, self.g), self.v.map(|x| scale(m, x)))
     }
 
     /// Largest magnitude.
@@ -57,8 +87,40 @@ impl Comp {
         Comp {
             lo,
             hi,
-            g: if self.g == 0.0 { 0.0 } else { f64::INFINITY },
+            g: inf_unless_zero(self.g),
+            v: self.v.map(inf_unless_zero),
         }
+    }
+}
+
+fn inf_unless_zero(x: f64) -> f64 {
+    if x == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
+}
+
+fn norm(v: &[f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+fn vadd(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn vmax(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0].max(b[0]), a[1].max(b[1]), a[2].max(b[2])]
+}
+
+/// A component from an interval and gradient bounds, the norm bound tightened by the
+/// partials' norm.
+fn comp(lo: f64, hi: f64, g: f64, v: [f64; 3]) -> Comp {
+    Comp {
+        lo,
+        hi,
+        g: g.min(norm(&v)),
+        v,
     }
 }
 
@@ -72,50 +134,50 @@ fn scale(m: f64, g: f64) -> f64 {
 }
 
 fn add(a: Comp, b: Comp) -> Comp {
-    Comp {
-        lo: a.lo + b.lo,
-        hi: a.hi + b.hi,
-        g: a.g + b.g,
-    }
+    comp(a.lo + b.lo, a.hi + b.hi, a.g + b.g, vadd(a.v, b.v))
 }
 
 fn neg(a: Comp) -> Comp {
     Comp {
         lo: -a.hi,
         hi: -a.lo,
-        g: a.g,
+        ..a
     }
+}
+
+/// `a * ga + b * gb` for both gradient bounds.
+fn combine(a: Comp, ma: f64, b: Comp, mb: f64) -> (f64, [f64; 3]) {
+    let (g1, v1) = a.scaled(ma);
+    let (g2, v2) = b.scaled(mb);
+    (g1 + g2, vadd(v1, v2))
 }
 
 fn mul(a: Comp, b: Comp) -> Comp {
     let p = [a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi];
     let (lo, hi) = hull(&p);
-    Comp {
-        lo,
-        hi,
-        g: scale(a.mag(), b.g) + scale(b.mag(), a.g),
-    }
+    let (g, v) = combine(a, b.mag(), b, a.mag());
+    comp(lo, hi, g, v)
 }
 
 fn div(a: Comp, b: Comp) -> Comp {
     let m = b.min_mag();
     if m == 0.0 {
-        return Comp::UNKNOWN.jumpy_from(a.g + b.g);
+        return Comp::UNKNOWN.jumpy_from(&[a, b]);
     }
     let p = [a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi];
     let (lo, hi) = hull(&p);
-    Comp {
-        lo,
-        hi,
-        g: scale(1.0 / m, a.g) + scale(a.mag() / (m * m), b.g),
-    }
+    let (g, v) = combine(a, 1.0 / m, b, a.mag() / (m * m));
+    comp(lo, hi, g, v)
 }
 
 impl Comp {
-    /// Unknown values, with a gradient bound of 0 only when the inputs' is 0.
-    fn jumpy_from(self, g: f64) -> Comp {
+    /// These values, with gradients zero where all of `from`'s are and unbounded elsewhere.
+    fn jumpy_from(self, from: &[Comp]) -> Comp {
+        let g = from.iter().map(|c| c.g).sum::<f64>();
+        let v = from.iter().map(|c| c.v).fold([0.0; 3], vadd);
         Comp {
-            g: if g == 0.0 { 0.0 } else { f64::INFINITY },
+            g: inf_unless_zero(g),
+            v: v.map(inf_unless_zero),
             ..self
         }
     }
@@ -133,11 +195,8 @@ fn hull(v: &[f64]) -> (f64, f64) {
 
 /// A smooth scalar function with derivative bounded by `slope` on the argument's interval.
 fn smooth(a: Comp, lo: f64, hi: f64, slope: f64) -> Comp {
-    Comp {
-        lo,
-        hi,
-        g: scale(slope, a.g),
-    }
+    let (g, v) = a.scaled(slope);
+    comp(lo, hi, g, v)
 }
 
 /// Bounds of every component of `root`, with `input` giving the components of input nodes
@@ -192,9 +251,30 @@ fn at(a: &[Comp], i: usize) -> Comp {
     }
 }
 
-/// The Euclidean-norm bound of a vector's Jacobian from its rows' gradient bounds.
+/// A bound on the spectral norm of a vector's Jacobian: the rows' norms give the
+/// Frobenius norm, the partials a matrix whose spectral norm bounds the Jacobian's.
 pub fn jacobian_norm(v: &[Comp]) -> f64 {
-    v.iter().map(|c| c.g * c.g).sum::<f64>().sqrt()
+    let frob = v.iter().map(|c| c.g * c.g).sum::<f64>().sqrt();
+    let partials = if v.len() <= 3 {
+        let mut rows = [[0.0; 3]; 3];
+        for (r, c) in rows.iter_mut().zip(v) {
+            *r = c.v;
+        }
+        if rows.iter().flatten().all(|x| x.is_finite()) {
+            super::spectral_norm(rows)
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        f64::INFINITY
+    };
+    frob.min(partials)
+}
+
+/// Bounds on the partial derivatives of a function of a vector whose own gradient norm is at
+/// most 1: column norms of the vector's partials.
+fn column_norms(v: &[Comp]) -> [f64; 3] {
+    [0, 1, 2].map(|j| v.iter().map(|c| c.v[j] * c.v[j]).sum::<f64>().sqrt())
 }
 
 fn apply(op: Op, a: &[&[Comp]], width: usize) -> Vec<Comp> {
@@ -209,32 +289,18 @@ fn apply(op: Op, a: &[&[Comp]], width: usize) -> Vec<Comp> {
         Op::Div => each(&|i| div(at(a[0], i), at(a[1], i))),
         Op::Mod => each(&|i| {
             let (x, m) = (at(a[0], i), at(a[1], i));
-            let g = x.g + m.g;
-            Comp {
-                lo: -m.mag(),
-                hi: m.mag(),
-                g: 0.0,
-            }
-            .jumpy_from(g)
+            Comp::fixed(-m.mag(), m.mag()).jumpy_from(&[x, m])
         }),
         Op::Lt | Op::Le | Op::Gt | Op::Ge | Op::Eq | Op::Ne => {
-            vec![Comp::constant(0.0).jumpy_from(a[0][0].g + a[1][0].g)]
+            vec![Comp::constant(0.0).jumpy_from(&[a[0][0], a[1][0]])]
         }
         Op::Select => each(&|i| {
             let (f, t, c) = (at(a[0], i), at(a[1], i), a[2][0]);
             let (lo, hi) = (f.lo.min(t.lo), f.hi.max(t.hi));
             if c.g == 0.0 {
-                Comp {
-                    lo,
-                    hi,
-                    g: f.g.max(t.g),
-                }
+                comp(lo, hi, f.g.max(t.g), vmax(f.v, t.v))
             } else {
-                Comp {
-                    lo,
-                    hi,
-                    g: f64::INFINITY,
-                }
+                Comp::fixed(lo, hi).jumpy_from(&[c])
             }
         }),
         Op::MakeVec | Op::MakeMat3 => a.iter().flat_map(|x| x.iter().copied()).collect(),
@@ -242,11 +308,15 @@ fn apply(op: Op, a: &[&[Comp]], width: usize) -> Vec<Comp> {
         Op::MatMul if a[1].len() == 3 => mat_vec(a[0], a[1]),
         Op::Transpose => (0..9).map(|k| at(a[0], (k % 3) * 3 + k / 3)).collect(),
         Op::Builtin(b) => builtin(b, a, width),
-        Op::Helper(Helper::Noise) => vec![Comp {
-            lo: -1.0,
-            hi: 1.0,
-            g: scale(NOISE_LIPSCHITZ, jacobian_norm(a[0])),
-        }],
+        Op::Helper(Helper::Noise) => {
+            // d noise(v) / dx_j = sum_i dnoise/dv_i dv_i/dx_j, each |dnoise/dv_i| <= 8.5.
+            let cols = column_norms(a[0]);
+            let sums = [0, 1, 2].map(|j| a[0].iter().map(|c| c.v[j]).sum::<f64>());
+            let v = [0, 1, 2].map(|j| {
+                scale(NOISE_LIPSCHITZ, cols[j]).min(scale(NOISE_PARTIAL, sums[j]))
+            });
+            vec![comp(-1.0, 1.0, scale(NOISE_LIPSCHITZ, jacobian_norm(a[0])), v)]
+        }
         _ => unknown(),
     }
 }
@@ -274,12 +344,12 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
             Comp {
                 lo: c.min_mag(),
                 hi: c.mag(),
-                g: c.g,
+                ..c
             }
         }),
         Sign | Step => each(&|i| {
-            let g = a.iter().map(|v| at(v, i).g).sum::<f64>();
-            Comp::constant(0.0).jumpy_from(g).with(-1.0, 1.0)
+            let from: Vec<Comp> = a.iter().map(|v| at(v, i)).collect();
+            Comp::fixed(-1.0, 1.0).jumpy_from(&from)
         }),
         Floor | Ceil | Round => each(&|i| {
             let c = x(i);
@@ -350,15 +420,17 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
             // |grad atan2(y, x)| <= (|x| |grad y| + |y| |grad x|) / (x^2 + y^2).
             let (y, xx) = (x(i), at(a[1], i));
             let r2 = y.min_mag().powi(2) + xx.min_mag().powi(2);
-            let num = scale(xx.mag(), y.g) + scale(y.mag(), xx.g);
-            let g = if num == 0.0 {
-                0.0
-            } else if r2 > 0.0 {
-                num / r2
-            } else {
-                f64::INFINITY
+            let (num, nv) = combine(y, xx.mag(), xx, y.mag());
+            let over = |n: f64| {
+                if n == 0.0 {
+                    0.0
+                } else if r2 > 0.0 {
+                    n / r2
+                } else {
+                    f64::INFINITY
+                }
             };
-            Comp { lo: -PI, hi: PI, g }
+            comp(-PI, PI, over(num), nv.map(over))
         }),
         Min | Max => each(&|i| {
             let (p, q) = (x(i), at(a[1], i));
@@ -367,19 +439,16 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
             } else {
                 (p.lo.max(q.lo), p.hi.max(q.hi))
             };
-            Comp {
-                lo,
-                hi,
-                g: p.g.max(q.g),
-            }
+            comp(lo, hi, p.g.max(q.g), vmax(p.v, q.v))
         }),
         Clamp => each(&|i| {
             let (c, l, h) = (x(i), at(a[1], i), at(a[2], i));
-            Comp {
-                lo: c.lo.max(l.lo).min(h.lo),
-                hi: c.hi.max(l.hi).min(h.hi),
-                g: c.g.max(l.g).max(h.g),
-            }
+            comp(
+                c.lo.max(l.lo).min(h.lo),
+                c.hi.max(l.hi).min(h.hi),
+                c.g.max(l.g).max(h.g),
+                vmax(c.v, vmax(l.v, h.v)),
+            )
         }),
         Mix => each(&|i| {
             // x (1 - t) + y t
@@ -413,13 +482,16 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
             vec![c(1, 2), c(2, 0), c(0, 1)]
         }
         Normalize => {
+            // |d(v/|v|)| <= |dv| / |v|.
             let l = length(a[0]);
-            let g = if l.lo > 0.0 {
-                scale(1.0 / l.lo, jacobian_norm(a[0]))
+            let k = if l.lo > 0.0 {
+                1.0 / l.lo
             } else {
                 f64::INFINITY
             };
-            each(&|_| Comp { lo: -1.0, hi: 1.0, g })
+            let g = scale(k, jacobian_norm(a[0]));
+            let v = column_norms(a[0]).map(|c| scale(k, c));
+            each(&|_| comp(-1.0, 1.0, g, v))
         }
         Radians | Degrees => {
             let k = if b == Radians {
@@ -432,21 +504,12 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
     }
 }
 
-impl Comp {
-    fn with(self, lo: f64, hi: f64) -> Comp {
-        Comp { lo, hi, ..self }
-    }
-}
-
-/// `length(v)`: 1-Lipschitz in `v`, so its gradient is bounded by the Jacobian's norm.
+/// `length(v)`: 1-Lipschitz in `v`, so its gradient is bounded by the Jacobian's norm and
+/// its partials by the Jacobian's column norms.
 fn length(v: &[Comp]) -> Comp {
     let lo = v.iter().map(|c| c.min_mag().powi(2)).sum::<f64>().sqrt();
     let hi = v.iter().map(|c| c.mag().powi(2)).sum::<f64>().sqrt();
-    Comp {
-        lo,
-        hi,
-        g: jacobian_norm(v),
-    }
+    comp(lo, hi, jacobian_norm(v), column_norms(v))
 }
 
 #[cfg(test)]
@@ -474,14 +537,18 @@ mod tests {
         let r = g.op(Op::Div, &[s, d]);
         let everywhere = |op: Op, _: usize| {
             matches!(op, Op::LambdaArg { .. })
-                .then(|| vec![Comp::coord(f64::NEG_INFINITY, f64::INFINITY); 3])
+                .then(|| (0..3).map(|i| Comp::coord(i, f64::NEG_INFINITY, f64::INFINITY)).collect())
         };
         let b = bound(&g, r, &everywhere);
         assert_eq!(b.len(), 1);
-        assert_eq!(b[0].g, 30.0 / 16.0);
+        assert_eq!(b[0].slope(), 30.0 / 16.0);
+        // The identity map's Jacobian norm is 1, and |grad length(p)| is 1.
+        assert_eq!(jacobian_norm(&bound(&g, p, &everywhere)), 1.0);
+        let l = g.builtin(Builtin::Length, &[p]);
+        assert_eq!(bound(&g, l, &everywhere)[0].slope(), 1.0);
         assert_eq!((b[0].lo, b[0].hi), (-1.0 / 16.0, 1.0 / 16.0));
         // floor(p.y) is not Lipschitz.
         let f = g.builtin(Builtin::Floor, &[y]);
-        assert_eq!(bound(&g, f, &everywhere)[0].g, f64::INFINITY);
+        assert_eq!(bound(&g, f, &everywhere)[0].slope(), f64::INFINITY);
     }
 }

@@ -7,6 +7,7 @@
 //! in the scene keep full steps. Declared `lipschitz:` bounds are checked by sampling.
 
 pub mod bounds;
+mod explain;
 pub mod gradient;
 pub mod sample;
 
@@ -18,6 +19,7 @@ use crate::scene::Scene;
 use crate::shape::{CombineOp, Declared, DistMod, PointMap, ShapeKind, WarpMap};
 use crate::value::Value;
 use bounds::Aabb;
+pub use explain::explain;
 use gradient::Comp;
 use sdfc_syntax::diag::Diagnostic;
 use sdfc_syntax::span::Span;
@@ -50,6 +52,8 @@ pub enum Source {
     Declared,
     /// Derived by the compiler (matrix norms, bounds, gradient bounds of the expression).
     Derived,
+    /// The language's default (`sdf` without `lipschitz:` has L = 1).
+    Default,
     /// Computed per point at run time (twist and bend outside their child's bounds, a
     /// shear by params): only the value inside the bounds is known here.
     Symbolic,
@@ -108,13 +112,15 @@ struct Analyser<'s> {
 }
 
 /// The spectral norm of a 3x3 matrix (rows), from the largest eigenvalue of `A^T A` in
-/// closed form, rounded up slightly so that it stays an upper bound.
+/// closed form, rounded up slightly so that it stays an upper bound (a diagonal `A^T A`
+/// needs no margin: its largest entry is the eigenvalue).
 pub fn spectral_norm(a: [[f64; 3]; 3]) -> f64 {
     let b = |i: usize, j: usize| (0..3).map(|k| a[k][i] * a[k][j]).sum::<f64>();
     let p1 = b(0, 1).powi(2) + b(0, 2).powi(2) + b(1, 2).powi(2);
-    let lambda = if p1 == 0.0 {
-        b(0, 0).max(b(1, 1)).max(b(2, 2))
-    } else {
+    if p1 == 0.0 {
+        return b(0, 0).max(b(1, 1)).max(b(2, 2)).sqrt();
+    }
+    let lambda = {
         let q = (b(0, 0) + b(1, 1) + b(2, 2)) / 3.0;
         let p2 = (b(0, 0) - q).powi(2) + (b(1, 1) - q).powi(2) + (b(2, 2) - q).powi(2) + 2.0 * p1;
         let p = (p2 / 6.0).sqrt();
@@ -211,7 +217,7 @@ impl Analyser<'_> {
                     source: Some(if declared.is_some() {
                         Source::Declared
                     } else {
-                        Source::Derived
+                        Source::Default
                     }),
                     normalises: true,
                 }
@@ -234,7 +240,7 @@ impl Analyser<'_> {
                         (l, Source::Declared)
                     }
                     None => {
-                        let g = slope.first().map_or(f64::INFINITY, |c| c.g);
+                        let g = slope.first().map_or(f64::INFINITY, |c| c.slope());
                         if !g.is_finite() {
                             self.out.diagnostics.push(
                                 Diagnostic::error(span, "the compiler cannot bound how fast this displacement changes")
@@ -272,7 +278,7 @@ impl Analyser<'_> {
                         (l, Source::Declared)
                     }
                     None => {
-                        let g = self.body_bound(*body, *lambda, 2).first().map_or(f64::INFINITY, |c| c.g);
+                        let g = self.body_bound(*body, *lambda, 2).first().map_or(f64::INFINITY, |c| c.slope());
                         if !g.is_finite() {
                             self.out.diagnostics.push(
                                 Diagnostic::error(span, "the compiler cannot bound the slope of this heightfield")
@@ -540,19 +546,18 @@ impl Analyser<'_> {
     /// Value and gradient bounds of a lambda body over all of space (the segment from a
     /// point to the nearest surface may leave any bounded region).
     fn body_bound(&mut self, body: NodeId, lambda: u32, params: u8) -> Vec<Comp> {
-        let everywhere = Comp::coord(f64::NEG_INFINITY, f64::INFINITY);
+        let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
         let input = |op: Op, width: usize| match op {
-            Op::LambdaArg { lambda: l, index } if l == lambda && index < params => {
-                Some(vec![everywhere; width])
-            }
+            // `|p|`: the point; `|x, z|`: its x and z.
+            Op::LambdaArg { lambda: l, index } if l == lambda && index < params => Some(
+                if params == 1 {
+                    (0..width).map(|i| Comp::coord(i, lo, hi)).collect()
+                } else {
+                    vec![Comp::coord(2 * index as usize, lo, hi)]
+                },
+            ),
             // Params and time vary at run time but not with the point.
-            Op::Param(_) | Op::Time => Some(vec![
-                Comp {
-                    g: 0.0,
-                    ..Comp::UNKNOWN
-                };
-                width
-            ]),
+            Op::Param(_) | Op::Time => Some(vec![Comp::fixed(lo, hi); width]),
             _ => None,
         };
         gradient::bound(&self.scene.values, body, &input)

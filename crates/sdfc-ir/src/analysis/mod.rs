@@ -208,7 +208,7 @@ impl Analyser<'_> {
             } => {
                 let l = self.scalar(*lipschitz);
                 if let (Some(l), Some(at)) = (l, declared) {
-                    self.check_declared(*body, *lambda, 1, l, 0.0, *at, &Aabb::EVERYTHING, "sdf");
+                    self.check_declared(*body, *lambda, 1, l, None, *at, &Aabb::EVERYTHING, "sdf");
                 }
                 NodeInfo {
                     exactness: Exactness::Bound,
@@ -235,7 +235,7 @@ impl Analyser<'_> {
                     Some((n, at)) => {
                         let l = self.scalar(*n);
                         if let Some(l) = l {
-                            self.check_declared(*body, *lambda, 1, l, 1.0, *at, &c.bounds, "displace");
+                            self.check_declared(*body, *lambda, 1, l, Some(*child), *at, &c.bounds.grow(grow), "displace");
                         }
                         (l, Source::Declared)
                     }
@@ -273,7 +273,7 @@ impl Analyser<'_> {
                     Some((n, at)) => {
                         let l = self.scalar(*n);
                         if let Some(l) = l {
-                            self.check_declared(*body, *lambda, 2, l, 0.0, *at, &Aabb::EVERYTHING, "heightfield");
+                            self.check_declared(*body, *lambda, 2, l, None, *at, &Aabb::EVERYTHING, "heightfield");
                         }
                         (l, Source::Declared)
                     }
@@ -527,7 +527,7 @@ impl Analyser<'_> {
             }
             WarpMap::Lambda { body, lambda } => {
                 if let Some((l, at)) = declared {
-                    self.check_declared(body, lambda, 1, l, 0.0, at, &Aabb::EVERYTHING, "warp");
+                    self.check_declared(body, lambda, 1, l, None, at, &Aabb::EVERYTHING, "warp");
                     return (Aabb::EVERYTHING, Some(l), Source::Declared);
                 }
                 let j = gradient::jacobian_norm(&self.body_bound(body, lambda, 1));
@@ -564,7 +564,8 @@ impl Analyser<'_> {
     }
 
     /// Warns when sampling finds the point function's slope above its declared bound (for
-    /// `displace`, the bound covers the child's distance too: `base` is that child's 1).
+    /// `displace`, the bound is that of the displaced distance: the child's distance plus
+    /// the expression, and `child` is that child).
     #[allow(clippy::too_many_arguments)]
     fn check_declared(
         &mut self,
@@ -572,7 +573,7 @@ impl Analyser<'_> {
         lambda: u32,
         params: u8,
         declared: f64,
-        base: f64,
+        child: Option<crate::shape::ShapeId>,
         at: Span,
         region: &Aabb,
         name: &str,
@@ -585,19 +586,37 @@ impl Analyser<'_> {
             hi: region.hi.map(|x| x.min(DEFAULT_REGION)),
         };
         let params_now: Vec<Value<f64>> = self.scene.params.iter().map(|p| p.default.cast()).collect();
-        let ev = sample::LambdaEval::new(&self.scene.values, body, lambda, params_now);
+        let ev = sample::LambdaEval::new(&self.scene.values, body, lambda, params_now.clone());
+        // The child's distance function, for `displace`.
+        let child_fn = child.map(|c| {
+            let sub = Scene {
+                root: c,
+                ..self.scene.clone()
+            };
+            crate::to_ssa::functions(&sub)
+        });
         let f = |p: [f64; 3]| -> Vec<f64> {
             let args = if params == 1 {
                 vec![Value::V3(p)]
             } else {
                 vec![Value::F(p[0]), Value::F(p[2])]
             };
-            ev.eval(&args).comps()
+            let mut v = ev.eval(&args).comps();
+            if let (Some(fs), Some(x)) = (&child_fn, v.first_mut()) {
+                let inputs = crate::eval::Inputs {
+                    point: p,
+                    params: params_now.clone(),
+                    time: 0.0,
+                };
+                let d = crate::eval::eval_func(&fs.distance, &fs.groups, &inputs);
+                *x += d.first().and_then(|d| d.scalar()).unwrap_or(0.0);
+            }
+            v
         };
         let slope = sample::max_slope(&region, sample::SAMPLES, &f);
-        if base + slope > declared * (1.0 + CHECK_SLACK) + 1e-9 {
+        if slope > declared * (1.0 + CHECK_SLACK) + 1e-9 {
             let what = match name {
-                "displace" => format!("the displacement's slope reaches {slope:.4}, so the displaced distance can change at up to {:.4} per unit", base + slope),
+                "displace" => format!("the displaced distance changes at up to {slope:.4} per unit"),
                 "warp" => format!("the warp stretches space by up to {slope:.4}"),
                 "heightfield" => format!("the terrain's slope reaches {slope:.4}"),
                 _ => format!("the distance expression's slope reaches {slope:.4}"),
@@ -608,7 +627,7 @@ impl Analyser<'_> {
                     .with_hint(if slope > JUMP {
                         "the expression seems to jump (a `step`, `floor`, `fract` or `select` of the point?): no bound makes a discontinuous distance safe".to_string()
                     } else {
-                        format!("use `lipschitz: {}` or more; a bound that is too small lets rays step through the surface", round_up(base + slope))
+                        format!("use `lipschitz: {}` or more; a bound that is too small lets rays step through the surface", round_up(slope))
                     }),
             );
         }

@@ -80,7 +80,10 @@ fn check_bound(name: &str, src: &str) {
         "{name}: emitted slope {q:.5} <= 1; field slope {:.5} vs compiler L {l:.5}",
         q * l
     );
-    assert!(q <= 1.0 + 1e-6, "{name}: the emitted distance has slope {q}");
+    assert!(
+        q <= 1.0 + 1e-6,
+        "{name}: the emitted distance has slope {q}"
+    );
     assert!(q > 0.3, "{name}: the sampling saw almost no change ({q})");
 }
 
@@ -160,9 +163,7 @@ fn stretched_sphere_is_the_ellipsoid() {
 #[test]
 fn shear_moves_the_surface_by_the_forward_map() {
     let (kxy, kxz, kyz) = (0.5, -0.3, 0.25);
-    let p = program(&format!(
-        "scene = sphere(1).shear([{kxy}, {kxz}, {kyz}]);"
-    ));
+    let p = program(&format!("scene = sphere(1).shear([{kxy}, {kxz}, {kyz}]);"));
     let fwd = |u: [f64; 3]| [u[0] + kxy * u[1] + kxz * u[2], u[1] + kyz * u[2], u[2]];
     let mut r = Lcg(11);
     for _ in 0..500 {

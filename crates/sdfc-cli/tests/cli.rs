@@ -127,7 +127,9 @@ fn compile_explain_lists_the_non_exact_nodes() {
     validate(&run.stdout);
     let lines: Vec<&str> = run.stderr.lines().collect();
     assert!(
-        lines.first().is_some_and(|l| l.starts_with("scene: bound, L = 1")),
+        lines
+            .first()
+            .is_some_and(|l| l.starts_with("scene: bound, L = 1")),
         "{}",
         run.describe()
     );
@@ -165,7 +167,8 @@ fn compile_warns_about_a_contradicted_lipschitz_bound() {
     assert!(run.stderr.contains("warning"), "{}", run.describe());
     assert!(run.stderr.contains("scene.sdf:1:62"), "{}", run.describe());
     assert!(
-        run.stderr.contains("declared Lipschitz bound 2.875 of `displace` is too small"),
+        run.stderr
+            .contains("declared Lipschitz bound 2.875 of `displace` is too small"),
         "{}",
         run.describe()
     );

@@ -2,13 +2,13 @@
 //! `scene_material(p)`: point maps become arithmetic on `p`, primitives become helper calls,
 //! combinations become `min`/`max` (and, for materials, selects and blends).
 
+use crate::analysis::NodeInfo;
 use crate::func::{Func, FuncKind};
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
 use crate::ops::{Builtin, Helper, Op, Swizzle};
 use crate::passes::fold::const_value;
 use crate::scene::{Material, Scene};
-use crate::analysis::NodeInfo;
 use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
 use crate::value::Value;
@@ -308,7 +308,10 @@ impl<'s> Builder<'s> {
                 let d = self.op(Op::Sub, &[y, h]);
                 let l = self.divisor(s, None);
                 let d = self.op(Op::Div, &[d, l]);
-                (self.hinted(d, "d"), self.materials.then(|| self.material_const(mat)))
+                (
+                    self.hinted(d, "d"),
+                    self.materials.then(|| self.material_const(mat)),
+                )
             }
         };
         self.memo.insert(key, out);

@@ -69,11 +69,17 @@ impl Aabb {
             hi: [f64::NEG_INFINITY; 3],
         };
         for k in 0..8 {
-            let c = [0, 1, 2].map(|i| if k >> i & 1 == 0 { self.lo[i] } else { self.hi[i] });
+            let c = [0, 1, 2].map(|i| {
+                if k >> i & 1 == 0 {
+                    self.lo[i]
+                } else {
+                    self.hi[i]
+                }
+            });
             let q = f(c);
-            for i in 0..3 {
-                out.lo[i] = out.lo[i].min(q[i]);
-                out.hi[i] = out.hi[i].max(q[i]);
+            for (i, x) in q.into_iter().enumerate() {
+                out.lo[i] = out.lo[i].min(x);
+                out.hi[i] = out.hi[i].max(x);
             }
         }
         out

@@ -1,5 +1,6 @@
 //! The text of `sdfc compile --explain`: the scene's exactness and Lipschitz bound, then one
-//! line per shape node whose distance is not exact, with its line and column.
+//! line per shape node whose distance is not exact, with its line and column (materials and
+//! rigid motions, which only pass their child's on, are left out).
 
 use super::{Analysis, Exactness, Source};
 use crate::scene::Scene;
@@ -16,7 +17,11 @@ fn kind_name(kind: &ShapeKind) -> String {
         ShapeKind::Warp { map, .. } => map.name().into(),
         ShapeKind::Heightfield { .. } => "heightfield".into(),
         ShapeKind::Combine { op, smooth, .. } => {
-            format!("{}{}", op.name(), if smooth.is_some() { " (smooth)" } else { "" })
+            format!(
+                "{}{}",
+                op.name(),
+                if smooth.is_some() { " (smooth)" } else { "" }
+            )
         }
         ShapeKind::Map { map, .. } => match map {
             PointMap::Affine { .. } => "transform".into(),
@@ -49,7 +54,9 @@ pub fn explain(scene: &Scene, analysis: &Analysis, source: &str) -> String {
         if normalising == 0 {
             "no bound-only node".to_string()
         } else {
-            format!("{normalising} bound-only node(s) divide by their own L, the largest {largest:.4}")
+            format!(
+                "{normalising} bound-only node(s) divide by their own L, the largest {largest:.4}"
+            )
         }
     );
     if root.exactness == Exactness::Neither {
@@ -64,6 +71,17 @@ pub fn explain(scene: &Scene, analysis: &Analysis, source: &str) -> String {
             continue;
         }
         let node = &scene.shapes[i];
+        // Materials and rigid motions pass their child's exactness on: nothing to add.
+        if matches!(
+            node.kind,
+            ShapeKind::Material { .. }
+                | ShapeKind::Map {
+                    map: PointMap::Affine { .. },
+                    ..
+                }
+        ) {
+            continue;
+        }
         let (line, col) = line_col(source, node.span.start as usize);
         let mut s = format!(
             "{line}:{col}: {}: {}",

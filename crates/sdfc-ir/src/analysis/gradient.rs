@@ -201,11 +201,7 @@ fn smooth(a: Comp, lo: f64, hi: f64, slope: f64) -> Comp {
 
 /// Bounds of every component of `root`, with `input` giving the components of input nodes
 /// (lambda parameters, params, time) given the node's width; `None` from it means unknown.
-pub fn bound(
-    g: &Graph,
-    root: NodeId,
-    input: &dyn Fn(Op, usize) -> Option<Vec<Comp>>,
-) -> Vec<Comp> {
+pub fn bound(g: &Graph, root: NodeId, input: &dyn Fn(Op, usize) -> Option<Vec<Comp>>) -> Vec<Comp> {
     let mut need = vec![false; root.index() + 1];
     need[root.index()] = true;
     for i in (0..=root.index()).rev() {
@@ -226,7 +222,11 @@ pub fn bound(
         let out = match node.op {
             Op::Const(c) => match c.to_value() {
                 Value::B(_) => vec![Comp::constant(0.0)],
-                v => v.comps().iter().map(|x| Comp::constant(*x as f64)).collect(),
+                v => v
+                    .comps()
+                    .iter()
+                    .map(|x| Comp::constant(*x as f64))
+                    .collect(),
             },
             op @ (Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. }) => {
                 input(op, width).unwrap_or_else(|| vec![Comp::UNKNOWN; width])
@@ -312,10 +312,14 @@ fn apply(op: Op, a: &[&[Comp]], width: usize) -> Vec<Comp> {
             // d noise(v) / dx_j = sum_i dnoise/dv_i dv_i/dx_j, each |dnoise/dv_i| <= 8.5.
             let cols = column_norms(a[0]);
             let sums = [0, 1, 2].map(|j| a[0].iter().map(|c| c.v[j]).sum::<f64>());
-            let v = [0, 1, 2].map(|j| {
-                scale(NOISE_LIPSCHITZ, cols[j]).min(scale(NOISE_PARTIAL, sums[j]))
-            });
-            vec![comp(-1.0, 1.0, scale(NOISE_LIPSCHITZ, jacobian_norm(a[0])), v)]
+            let v = [0, 1, 2]
+                .map(|j| scale(NOISE_LIPSCHITZ, cols[j]).min(scale(NOISE_PARTIAL, sums[j])));
+            vec![comp(
+                -1.0,
+                1.0,
+                scale(NOISE_LIPSCHITZ, jacobian_norm(a[0])),
+                v,
+            )]
         }
         _ => unknown(),
     }
@@ -359,11 +363,7 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
         Sqrt => each(&|i| {
             let c = x(i);
             let lo = c.lo.max(0.0).sqrt();
-            let slope = if lo > 0.0 {
-                0.5 / lo
-            } else {
-                f64::INFINITY
-            };
+            let slope = if lo > 0.0 { 0.5 / lo } else { f64::INFINITY };
             smooth(c, lo, c.hi.max(0.0).sqrt(), slope)
         }),
         Pow => each(&|i| {
@@ -458,8 +458,7 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
         }),
         Smoothstep => each(&|i| {
             let (e0, e1, c) = (x(i), at(a[1], i), at(a[2], i));
-            if e0.g == 0.0 && e1.g == 0.0 && e0.lo == e0.hi && e1.lo == e1.hi && e0.lo != e1.lo
-            {
+            if e0.g == 0.0 && e1.g == 0.0 && e0.lo == e0.hi && e1.lo == e1.hi && e0.lo != e1.lo {
                 smooth(c, 0.0, 1.0, 1.5 / (e1.lo - e0.lo).abs())
             } else {
                 Comp::UNKNOWN
@@ -494,11 +493,7 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
             each(&|_| comp(-1.0, 1.0, g, v))
         }
         Radians | Degrees => {
-            let k = if b == Radians {
-                PI / 180.0
-            } else {
-                180.0 / PI
-            };
+            let k = if b == Radians { PI / 180.0 } else { 180.0 / PI };
             each(&|i| mul(x(i), Comp::constant(k)))
         }
     }
@@ -536,8 +531,11 @@ mod tests {
         let d = g.f32(16.0);
         let r = g.op(Op::Div, &[s, d]);
         let everywhere = |op: Op, _: usize| {
-            matches!(op, Op::LambdaArg { .. })
-                .then(|| (0..3).map(|i| Comp::coord(i, f64::NEG_INFINITY, f64::INFINITY)).collect())
+            matches!(op, Op::LambdaArg { .. }).then(|| {
+                (0..3)
+                    .map(|i| Comp::coord(i, f64::NEG_INFINITY, f64::INFINITY))
+                    .collect()
+            })
         };
         let b = bound(&g, r, &everywhere);
         assert_eq!(b.len(), 1);

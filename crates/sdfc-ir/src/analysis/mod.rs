@@ -235,7 +235,16 @@ impl Analyser<'_> {
                     Some((n, at)) => {
                         let l = self.scalar(*n);
                         if let Some(l) = l {
-                            self.check_declared(*body, *lambda, 1, l, Some(*child), *at, &c.bounds.grow(grow), "displace");
+                            self.check_declared(
+                                *body,
+                                *lambda,
+                                1,
+                                l,
+                                Some(*child),
+                                *at,
+                                &c.bounds.grow(grow),
+                                "displace",
+                            );
                         }
                         (l, Source::Declared)
                     }
@@ -273,12 +282,24 @@ impl Analyser<'_> {
                     Some((n, at)) => {
                         let l = self.scalar(*n);
                         if let Some(l) = l {
-                            self.check_declared(*body, *lambda, 2, l, None, *at, &Aabb::EVERYTHING, "heightfield");
+                            self.check_declared(
+                                *body,
+                                *lambda,
+                                2,
+                                l,
+                                None,
+                                *at,
+                                &Aabb::EVERYTHING,
+                                "heightfield",
+                            );
                         }
                         (l, Source::Declared)
                     }
                     None => {
-                        let g = self.body_bound(*body, *lambda, 2).first().map_or(f64::INFINITY, |c| c.slope());
+                        let g = self
+                            .body_bound(*body, *lambda, 2)
+                            .first()
+                            .map_or(f64::INFINITY, |c| c.slope());
                         if !g.is_finite() {
                             self.out.diagnostics.push(
                                 Diagnostic::error(span, "the compiler cannot bound the slope of this heightfield")
@@ -332,14 +353,12 @@ impl Analyser<'_> {
                     worst.max(Exactness::Bound)
                 };
                 let mut b = match op {
-                    CombineOp::Union | CombineOp::Xor => kids
-                        .iter()
-                        .map(|k| k.bounds)
-                        .reduce(|a, b| a.hull(&b)),
-                    CombineOp::Intersect => kids
-                        .iter()
-                        .map(|k| k.bounds)
-                        .reduce(|a, b| a.intersect(&b)),
+                    CombineOp::Union | CombineOp::Xor => {
+                        kids.iter().map(|k| k.bounds).reduce(|a, b| a.hull(&b))
+                    }
+                    CombineOp::Intersect => {
+                        kids.iter().map(|k| k.bounds).reduce(|a, b| a.intersect(&b))
+                    }
                     CombineOp::Subtract => kids.first().map(|k| k.bounds),
                 }
                 .unwrap_or(Aabb::EVERYTHING);
@@ -485,7 +504,8 @@ impl Analyser<'_> {
             WarpMap::Shear(k) => match self.vec3(k) {
                 Some(k) => {
                     let [kxy, kxz, kyz] = k;
-                    let b = child.map_corners(|p| [p[0] + kxy * p[1] + kxz * p[2], p[1] + kyz * p[2], p[2]]);
+                    let b = child
+                        .map_corners(|p| [p[0] + kxy * p[1] + kxz * p[2], p[1] + kyz * p[2], p[2]]);
                     (b, Some(spectral_norm(shear_inverse(k))), Source::Derived)
                 }
                 None => (Aabb::EVERYTHING, None, Source::Symbolic),
@@ -549,13 +569,13 @@ impl Analyser<'_> {
         let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
         let input = |op: Op, width: usize| match op {
             // `|p|`: the point; `|x, z|`: its x and z.
-            Op::LambdaArg { lambda: l, index } if l == lambda && index < params => Some(
-                if params == 1 {
+            Op::LambdaArg { lambda: l, index } if l == lambda && index < params => {
+                Some(if params == 1 {
                     (0..width).map(|i| Comp::coord(i, lo, hi)).collect()
                 } else {
                     vec![Comp::coord(2 * index as usize, lo, hi)]
-                },
-            ),
+                })
+            }
             // Params and time vary at run time but not with the point.
             Op::Param(_) | Op::Time => Some(vec![Comp::fixed(lo, hi); width]),
             _ => None,
@@ -585,7 +605,8 @@ impl Analyser<'_> {
             lo: region.lo.map(|x| x.max(-DEFAULT_REGION)),
             hi: region.hi.map(|x| x.min(DEFAULT_REGION)),
         };
-        let params_now: Vec<Value<f64>> = self.scene.params.iter().map(|p| p.default.cast()).collect();
+        let params_now: Vec<Value<f64>> =
+            self.scene.params.iter().map(|p| p.default.cast()).collect();
         let ev = sample::LambdaEval::new(&self.scene.values, body, lambda, params_now.clone());
         // The child's distance function, for `displace`.
         let child_fn = child.map(|c| {
@@ -616,13 +637,15 @@ impl Analyser<'_> {
         let slope = sample::max_slope(&region, sample::SAMPLES, &f);
         if slope > declared * (1.0 + CHECK_SLACK) + 1e-9 {
             let what = match name {
-                "displace" => format!("the displaced distance changes at up to {slope:.4} per unit"),
+                "displace" => {
+                    format!("the displaced distance changes at up to {slope:.4} per unit")
+                }
                 "warp" => format!("the warp stretches space by up to {slope:.4}"),
                 "heightfield" => format!("the terrain's slope reaches {slope:.4}"),
                 _ => format!("the distance expression's slope reaches {slope:.4}"),
             };
             self.out.diagnostics.push(
-                Diagnostic::warning(at, format!("the declared Lipschitz bound {declared} of `{name}` is too small: {what}"))
+                Diagnostic::warning(at, format!("the declared Lipschitz bound {} of `{name}` is too small: {what}", declared as f32))
                     .with_label("contradicted by sampling")
                     .with_hint(if slope > JUMP {
                         "the expression seems to jump (a `step`, `floor`, `fract` or `select` of the point?): no bound makes a discontinuous distance safe".to_string()
@@ -639,7 +662,7 @@ const JUMP: f64 = 1e3;
 
 /// A value rounded up to 3 significant digits, for hints.
 fn round_up(x: f64) -> f64 {
-    if !(x > 0.0) || !x.is_finite() {
+    if x.is_nan() || x <= 0.0 || !x.is_finite() {
         return x;
     }
     let e = 10f64.powi(x.log10().floor() as i32 - 2);

@@ -60,8 +60,7 @@ impl<'g> LambdaEval<'g> {
                     .unwrap_or_else(|| zero_of(node.ty)),
                 Op::Point | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => zero_of(node.ty),
                 op => {
-                    let a: Vec<Value<f64>> =
-                        node.args().iter().map(|x| vals[x.index()]).collect();
+                    let a: Vec<Value<f64>> = node.args().iter().map(|x| vals[x.index()]).collect();
                     apply(op, node.ty, &a)
                 }
             };
@@ -115,7 +114,7 @@ pub fn max_slope(region: &Aabb, n: usize, f: &dyn Fn([f64; 3]) -> Vec<f64>) -> f
         for _ in 0..30 {
             let w = jtj(u);
             let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-            if !(l > 0.0) || !l.is_finite() {
+            if l.is_nan() || l <= 0.0 || !l.is_finite() {
                 break;
             }
             u = w.map(|x| x / l);

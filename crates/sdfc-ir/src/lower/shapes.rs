@@ -438,7 +438,9 @@ impl<'a> Lowerer<'a> {
             }
         };
         let (lambda, body) = self.apply_lambda(&lam, &[Ty::Vec3], name, Ty::F32)?;
-        let declared = b[1].map(|le| self.declared_lipschitz(le, scope)).transpose()?;
+        let declared = b[1]
+            .map(|le| self.declared_lipschitz(le, scope))
+            .transpose()?;
         let kind = match child {
             None => ShapeKind::Sdf {
                 body,

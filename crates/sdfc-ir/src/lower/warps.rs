@@ -64,7 +64,9 @@ impl<'a> Lowerer<'a> {
                                 ),
                             )
                             .with_label("not positive")
-                            .with_hint("to mirror a shape use `mirror_x`, `mirror_y` or `mirror_z`"),
+                            .with_hint(
+                                "to mirror a shape use `mirror_x`, `mirror_y` or `mirror_z`",
+                            ),
                         ));
                     }
                 }
@@ -100,16 +102,13 @@ impl<'a> Lowerer<'a> {
             other => {
                 let d = self.describe(&other);
                 return Err(self.error(
-                    Diagnostic::error(
-                        fe.span,
-                        format!("`{name}` takes a lambda, found {d}"),
-                    )
-                    .with_label("expected a lambda")
-                    .with_hint(if name == "warp" {
-                        "for example `warp(s, |p| p + [0, sin(p.x), 0], lipschitz: 1.5)`"
-                    } else {
-                        "for example `heightfield(|x, z| sin(x) * cos(z), lipschitz: 1.5)`"
-                    }),
+                    Diagnostic::error(fe.span, format!("`{name}` takes a lambda, found {d}"))
+                        .with_label("expected a lambda")
+                        .with_hint(if name == "warp" {
+                            "for example `warp(s, |p| p + [0, sin(p.x), 0], lipschitz: 1.5)`"
+                        } else {
+                            "for example `heightfield(|x, z| sin(x) * cos(z), lipschitz: 1.5)`"
+                        }),
                 ));
             }
         };

@@ -171,9 +171,9 @@ impl Merger<'_> {
                 let child = self.shape(child);
                 self.push(ShapeKind::Material { material, child }, node.span)
             }
-            kind @ (ShapeKind::Prim { .. } | ShapeKind::Sdf { .. } | ShapeKind::Heightfield { .. }) => {
-                self.push(kind, node.span)
-            }
+            kind @ (ShapeKind::Prim { .. }
+            | ShapeKind::Sdf { .. }
+            | ShapeKind::Heightfield { .. }) => self.push(kind, node.span),
         };
         self.map.insert(id, out);
         out

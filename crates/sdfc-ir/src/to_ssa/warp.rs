@@ -53,7 +53,8 @@ impl Builder<'_> {
                 let k = match const_value(&self.scene.values, f, &mut self.consts) {
                     Some(Value::V3(v)) => self.f(v[0].min(v[1]).min(v[2])),
                     _ => {
-                        let (x, y, z) = (self.swz(fv, &[0]), self.swz(fv, &[1]), self.swz(fv, &[2]));
+                        let (x, y, z) =
+                            (self.swz(fv, &[0]), self.swz(fv, &[1]), self.swz(fv, &[2]));
                         let yz = self.g.builtin(Builtin::Min, &[y, z]);
                         self.g.builtin(Builtin::Min, &[x, yz])
                     }

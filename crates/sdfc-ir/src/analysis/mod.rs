@@ -85,6 +85,10 @@ pub struct Analysis {
 /// How far the sampling check reaches on unbounded axes.
 pub const DEFAULT_REGION: f64 = 4.0;
 
+/// At most this many declared bounds are checked per scene (the first in the shape DAG's
+/// order), so that compile time stays bounded for scenes with thousands of displacements.
+pub const MAX_CHECKED: usize = 64;
+
 /// Relative slack for the declared-bound check (finite differences in f64 are far more
 /// accurate than this; it keeps rounding from raising a warning).
 const CHECK_SLACK: f64 = 1e-3;
@@ -96,6 +100,7 @@ pub fn analyse(scene: &Scene, check: bool) -> Analysis {
         memo: FxHashMap::default(),
         out: Analysis::default(),
         check,
+        checked: 0,
     };
     for i in 0..scene.shapes.len() {
         let info = a.node(i);
@@ -109,6 +114,8 @@ struct Analyser<'s> {
     memo: FxHashMap<NodeId, Option<Value<f32>>>,
     out: Analysis,
     check: bool,
+    /// Declared bounds checked so far.
+    checked: usize,
 }
 
 /// The spectral norm of a 3x3 matrix (rows), from the largest eigenvalue of `A^T A` in
@@ -598,9 +605,10 @@ impl Analyser<'_> {
         region: &Aabb,
         name: &str,
     ) {
-        if !self.check {
+        if !self.check || self.checked >= MAX_CHECKED {
             return;
         }
+        self.checked += 1;
         let region = Aabb {
             lo: region.lo.map(|x| x.max(-DEFAULT_REGION)),
             hi: region.hi.map(|x| x.min(DEFAULT_REGION)),

@@ -10,14 +10,14 @@ use crate::ops::Op;
 use crate::value::Value;
 
 /// How many points the declared-bound check samples.
-pub const SAMPLES: usize = 4096;
+pub const SAMPLES: usize = 2048;
 
 /// A lambda body ready for repeated f64 evaluation.
 pub struct LambdaEval<'g> {
     g: &'g Graph,
-    root: NodeId,
     lambda: u32,
-    order: Vec<usize>,
+    /// The nodes the body needs, in order, with their arguments as positions in this list.
+    order: Vec<(NodeId, Vec<usize>)>,
     params: Vec<Value<f64>>,
 }
 
@@ -33,10 +33,16 @@ impl<'g> LambdaEval<'g> {
                 }
             }
         }
-        let order = (0..=root.index()).filter(|i| need[*i]).collect();
+        let mut pos = vec![0usize; root.index() + 1];
+        let mut order = Vec::new();
+        for i in (0..=root.index()).filter(|i| need[*i]) {
+            pos[i] = order.len();
+            let id = NodeId(i as u32);
+            let args = g.node(id).args().iter().map(|a| pos[a.index()]).collect();
+            order.push((id, args));
+        }
         LambdaEval {
             g,
-            root,
             lambda,
             order,
             params,
@@ -45,10 +51,11 @@ impl<'g> LambdaEval<'g> {
 
     /// The body's value with the lambda's parameters set to `args`.
     pub fn eval(&self, args: &[Value<f64>]) -> Value<f64> {
-        let mut vals: Vec<Value<f64>> = vec![Value::F(0.0); self.root.index() + 1];
-        for &i in &self.order {
-            let node = self.g.node(NodeId(i as u32));
-            vals[i] = match node.op {
+        let mut vals: Vec<Value<f64>> = Vec::with_capacity(self.order.len());
+        let mut a: Vec<Value<f64>> = Vec::with_capacity(4);
+        for (id, arg_pos) in &self.order {
+            let node = self.g.node(*id);
+            let v = match node.op {
                 Op::LambdaArg { lambda, index } if lambda == self.lambda => args
                     .get(index as usize)
                     .copied()
@@ -60,12 +67,14 @@ impl<'g> LambdaEval<'g> {
                     .unwrap_or_else(|| zero_of(node.ty)),
                 Op::Point | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => zero_of(node.ty),
                 op => {
-                    let a: Vec<Value<f64>> = node.args().iter().map(|x| vals[x.index()]).collect();
+                    a.clear();
+                    a.extend(arg_pos.iter().map(|k| vals[*k]));
                     apply(op, node.ty, &a)
                 }
             };
+            vals.push(v);
         }
-        vals[self.root.index()]
+        vals.last().copied().unwrap_or(Value::F(0.0))
     }
 }
 

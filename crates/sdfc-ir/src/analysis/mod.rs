@@ -676,3 +676,100 @@ fn round_up(x: f64) -> f64 {
     let e = 10f64.powi(x.log10().floor() as i32 - 2);
     (x / e).ceil() * e
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The spectral norm of `m` by power iteration on `m^T m` (a lower estimate that
+    /// converges to the true value), for comparison with the closed form.
+    fn power(m: [[f64; 3]; 3]) -> f64 {
+        let mut v = [0.3, 0.5, 0.7];
+        let mul = |v: [f64; 3]| [0, 1, 2].map(|i| (0..3).map(|j| m[i][j] * v[j]).sum::<f64>());
+        let mul_t = |v: [f64; 3]| [0, 1, 2].map(|j| (0..3).map(|i| m[i][j] * v[i]).sum::<f64>());
+        for _ in 0..500 {
+            let w = mul_t(mul(v));
+            let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            v = w.map(|x| x / n);
+        }
+        let w = mul(v);
+        (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt()
+    }
+
+    #[test]
+    fn spectral_norm_matches_power_iteration_and_never_undershoots() {
+        assert_eq!(
+            spectral_norm([[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]]),
+            3.0
+        );
+        for k in [
+            [0.5, 0.0, 0.25],
+            [1.0, -2.0, 0.5],
+            [0.0, 0.0, 3.0],
+            [0.1, 0.2, 0.3],
+        ] {
+            let m = shear_inverse(k);
+            let (closed, iter) = (spectral_norm(m), power(m));
+            assert!(closed >= iter, "{k:?}: {closed} < {iter}");
+            assert!((closed - iter) / iter < 1e-8, "{k:?}: {closed} vs {iter}");
+        }
+        // The inverse really inverts the shear.
+        let k = [0.5, -0.3, 0.25];
+        let m = shear_inverse(k);
+        let p = [0.7, -1.1, 0.4];
+        let fwd = [p[0] + k[0] * p[1] + k[1] * p[2], p[1] + k[2] * p[2], p[2]];
+        let back = [0, 1, 2].map(|i| (0..3).map(|j| m[i][j] * fwd[j]).sum::<f64>());
+        for i in 0..3 {
+            assert!((back[i] - p[i]).abs() < 1e-15);
+        }
+    }
+
+    /// The Jacobian of `f` at `p` by central differences, as rows.
+    fn jacobian(f: impl Fn([f64; 3]) -> [f64; 3], p: [f64; 3]) -> [[f64; 3]; 3] {
+        let h = 1e-6;
+        let mut j = [[0.0; 3]; 3];
+        for c in 0..3 {
+            let (mut a, mut b) = (p, p);
+            a[c] += h;
+            b[c] -= h;
+            let (fa, fb) = (f(a), f(b));
+            for r in 0..3 {
+                j[r][c] = (fa[r] - fb[r]) / (2.0 * h);
+            }
+        }
+        j
+    }
+
+    #[test]
+    fn twist_and_bend_constants_bound_their_maps_jacobians() {
+        let k: f64 = 1.5;
+        let twist = |p: [f64; 3]| {
+            let (s, c) = (k * p[1]).sin_cos();
+            [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]]
+        };
+        let bend = |p: [f64; 3]| {
+            let (s, c) = (k * p[0]).sin_cos();
+            [c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2]]
+        };
+        for r in [0.1, 0.7, 2.0] {
+            let mut worst: f64 = 0.0;
+            for a in 0..64 {
+                let t = a as f64 * std::f64::consts::TAU / 64.0;
+                let (s, c) = t.sin_cos();
+                worst = worst.max(power(jacobian(twist, [r * c, 0.3, r * s])));
+            }
+            let l = twist_lipschitz(k * r);
+            // t + sqrt(1 + t^2) is the largest singular value, reached at every angle (the
+            // finite differences are good to about 1e-9).
+            assert!((l - worst).abs() < 1e-8, "twist r {r}: {l} vs {worst}");
+            let mut worst: f64 = 0.0;
+            for a in 0..64 {
+                let t = a as f64 * std::f64::consts::TAU / 64.0;
+                let (s, c) = t.sin_cos();
+                worst = worst.max(power(jacobian(bend, [r * c, r * s, 0.2])));
+            }
+            let l = bend_lipschitz(k * r);
+            assert!(l >= worst - 1e-8, "bend r {r}: {l} vs {worst}");
+        }
+    }
+}

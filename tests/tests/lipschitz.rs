@@ -256,3 +256,57 @@ fn a_too_small_declared_bound_is_a_warning_at_its_span() {
     .expect("compiles");
     assert!(ok.warnings.is_empty(), "{:?}", ok.warnings);
 }
+
+/// Points of the surface of `box([1, 3, 1]).twist(k)`: a grid on the box's faces, each turned
+/// by `k y` about y.
+fn twisted_box_surface(k: f64) -> Vec<[f64; 3]> {
+    let h = [0.5, 1.5, 0.5];
+    let n = 48;
+    let mut out = Vec::new();
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            for i in 0..=n {
+                for j in 0..=n {
+                    let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+                    let mut u = [0.0; 3];
+                    u[axis] = sign * h[axis];
+                    u[a] = -h[a] + 2.0 * h[a] * i as f64 / n as f64;
+                    u[b] = -h[b] + 2.0 * h[b] * j as f64 / n as f64;
+                    let (s, c) = (k * u[1]).sin_cos();
+                    out.push([u[0] * c + u[2] * s, u[1], -u[0] * s + u[2] * c]);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Sphere tracing steps by the distance: at no point may it exceed the distance to any point
+/// of the surface. Checked for the twisted box at points near it and far from the twist axis
+/// (outside the child's bounds, where the divisor grows with the distance from the axis).
+#[test]
+fn twist_never_oversteps_near_or_far() {
+    let k = 1.5;
+    let p = program(&format!("scene = box([1, 3, 1]).twist({k});"));
+    let surface = twisted_box_surface(k);
+    let mut r = Lcg(21);
+    let mut tightest = f64::INFINITY;
+    for n in 0..400 {
+        let reach = if n % 2 == 0 { 1.5 } else { 6.0 };
+        let x = [0, 1, 2].map(|_| (r.next() * 2.0 - 1.0) * reach);
+        let d = dist(&p, x);
+        if d <= 0.0 {
+            continue;
+        }
+        let nearest = surface
+            .iter()
+            .map(|s| (0..3).map(|i| (x[i] - s[i]).powi(2)).sum::<f64>().sqrt())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d <= nearest + 1e-9,
+            "at {x:?}: step {d} but a surface point is {nearest} away"
+        );
+        tightest = tightest.min(nearest - d);
+    }
+    eprintln!("twist: smallest margin between the step and a surface point {tightest:.5}");
+}

@@ -19,6 +19,10 @@ pub struct Args {
     /// What to print: the WGSL, or a stage of the compiler for inspection
     #[arg(long, value_enum, default_value_t = Emit::Wgsl)]
     emit: Emit,
+    /// Print to stderr the scene's Lipschitz bound and every shape node whose distance is
+    /// not exact (line:column, exact/bound/neither, L)
+    #[arg(long)]
+    explain: bool,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -54,6 +58,13 @@ pub fn run(a: Args) -> Outcome {
             Err(f) => return report::failure(&path, &source, &f),
         };
         report::diagnostics(&path, &source, &compiled.warnings);
+        if a.explain {
+            let p = compiled.program();
+            eprint!(
+                "{}",
+                sdfc_ir::analysis::explain(&p.scene, &p.analysis, &source)
+            );
+        }
         match a.emit {
             Emit::Wgsl => compiled.wgsl,
             Emit::Ir => sdfc_ir::dump::scene_text(&compiled.stages.lowered),

@@ -117,6 +117,79 @@ fn compile_lib_with_import_path() {
 }
 
 #[test]
+fn compile_explain_lists_the_non_exact_nodes() {
+    let t = TempDir::new("explain");
+    let scene = t.write(
+        "scene.sdf",
+        "scene = sphere(1)\n      | box([1, 3, 1]).twist(1.5).translate([3, 0, 0]);\n",
+    );
+    let run = sdfc_in(&t.0, &["compile", s(&scene), "--explain"]).expect_code(0);
+    validate(&run.stdout);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert!(
+        lines
+            .first()
+            .is_some_and(|l| l.starts_with("scene: bound, L = 1")),
+        "{}",
+        run.describe()
+    );
+    // The twist, at its line and column, with the constant from the box's bounding radius
+    // (L = t + sqrt(1 + t^2), t = 1.5 * sqrt(0.5) / 2).
+    let t2 = 1.5 * 0.5f64.sqrt() / 2.0;
+    let l = t2 + (1.0 + t2 * t2).sqrt();
+    let want = format!("2:9: twist: bound, L = {l:.4}");
+    assert!(
+        lines.iter().any(|x| x.starts_with(&want)),
+        "no `{want}` in:\n{}",
+        run.stderr
+    );
+    // The sphere is exact: no line for it.
+    assert!(!run.stderr.contains("sphere"), "{}", run.stderr);
+    // An exact scene: one line, nothing else.
+    let exact = t.write("exact.sdf", SPHERE);
+    let run = sdfc_in(&t.0, &["compile", s(&exact), "--explain"]).expect_code(0);
+    assert_eq!(run.stderr, "scene: exact, L = 1 (no bound-only node)\n");
+    // Without --explain, nothing on stderr.
+    let run = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(0);
+    assert!(run.stderr.is_empty(), "{}", run.describe());
+}
+
+#[test]
+fn compile_warns_about_a_contradicted_lipschitz_bound() {
+    let t = TempDir::new("lipschitz-warning");
+    let scene = t.write(
+        "scene.sdf",
+        "scene = sphere(1).displace(|p| sin(30 * p.y) / 8, lipschitz: 2.875);\n",
+    );
+    // A warning, not an error: the WGSL is still written and the exit status is 0.
+    let run = sdfc_in(&t.0, &["compile", s(&scene)]).expect_code(0);
+    validate(&run.stdout);
+    assert!(run.stderr.contains("warning"), "{}", run.describe());
+    assert!(run.stderr.contains("scene.sdf:1:62"), "{}", run.describe());
+    assert!(
+        run.stderr
+            .contains("declared Lipschitz bound 2.875 of `displace` is too small"),
+        "{}",
+        run.describe()
+    );
+    // The displaced distance's slope is at most 1 + 30/8 = 4.75, and sampling finds close to
+    // that (a difference quotient never exceeds the true bound): the hint asks for a value
+    // from 4.5 to 4.75.
+    let hint = run
+        .stderr
+        .split("use `lipschitz: ")
+        .nth(1)
+        .and_then(|r| r.split('`').next())
+        .and_then(|x| x.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no hint with a number: {}", run.describe()));
+    assert!(
+        (4.5..=4.75).contains(&hint),
+        "hint {hint}: {}",
+        run.describe()
+    );
+}
+
+#[test]
 fn import_path_without_lib_is_a_usage_error() {
     let t = TempDir::new("import-no-lib");
     let scene = t.write("scene.sdf", SPHERE);

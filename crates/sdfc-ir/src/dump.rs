@@ -4,7 +4,7 @@ use crate::func::Func;
 use crate::graph::{Graph, NodeId};
 use crate::ops::Op;
 use crate::scene::Scene;
-use crate::shape::{PointMap, ShapeId, ShapeKind};
+use crate::shape::{Declared, PointMap, ShapeId, ShapeKind, WarpMap};
 use crate::value::Value;
 use std::fmt::Write;
 
@@ -124,6 +124,7 @@ fn shape_text(scene: &Scene, id: ShapeId, depth: usize, s: &mut String, used: &m
             body,
             lambda,
             lipschitz,
+            ..
         } => (
             format!(
                 "sdf lambda{lambda} body {} lipschitz {}",
@@ -141,9 +142,43 @@ fn shape_text(scene: &Scene, id: ShapeId, depth: usize, s: &mut String, used: &m
             format!(
                 "displace lambda{lambda} body {} lipschitz {}",
                 ids(&[*body], used),
-                ids(&[*lipschitz], used)
+                declared_text(lipschitz, used)
             ),
             vec![*child],
+        ),
+        ShapeKind::Warp {
+            map,
+            child,
+            lipschitz,
+        } => {
+            let arg = match map {
+                WarpMap::Stretch(n) | WarpMap::Shear(n) | WarpMap::Twist(n) | WarpMap::Bend(n) => {
+                    ids(&[*n], used)
+                }
+                WarpMap::Lambda { body, lambda } => {
+                    format!("lambda{lambda} body {}", ids(&[*body], used))
+                }
+            };
+            (
+                format!(
+                    "{} {arg} lipschitz {}",
+                    map.name(),
+                    declared_text(lipschitz, used)
+                ),
+                vec![*child],
+            )
+        }
+        ShapeKind::Heightfield {
+            body,
+            lambda,
+            lipschitz,
+        } => (
+            format!(
+                "heightfield lambda{lambda} body {} lipschitz {}",
+                ids(&[*body], used),
+                declared_text(lipschitz, used)
+            ),
+            vec![],
         ),
         ShapeKind::Combine {
             op,
@@ -196,5 +231,16 @@ fn shape_text(scene: &Scene, id: ShapeId, depth: usize, s: &mut String, used: &m
     let _ = writeln!(s, "{pad}{line}");
     for k in kids {
         shape_text(scene, k, depth + 1, s, used);
+    }
+}
+
+/// A declared `lipschitz:` as its node, or `derived` when the compiler bounds it.
+fn declared_text(d: &Declared, used: &mut [bool]) -> String {
+    match d {
+        Some((n, _)) => {
+            used[n.index()] = true;
+            format!("%{}", n.0)
+        }
+        None => "derived".into(),
     }
 }

@@ -3,6 +3,7 @@
 //! `scene_material`, their optimisation passes, and an evaluator (f32 for folding, f64 as
 //! the reference). No I/O; never panics on user input.
 
+pub mod analysis;
 pub mod dump;
 pub mod eval;
 pub mod func;
@@ -33,6 +34,8 @@ pub struct Program {
     pub material: Func,
     /// Group functions called by `distance`, `material` and each other (`Op::Call`).
     pub groups: Vec<Func>,
+    /// Exactness and Lipschitz bounds of the scene's shapes (indexed like `scene.shapes`).
+    pub analysis: analysis::Analysis,
 }
 
 /// The IR at each stage, for golden tests and `--emit`.
@@ -51,6 +54,12 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
         return (None, diags);
     };
     let merged = passes::merge::run(&scene);
+    // Bound-only nodes need their Lipschitz constants; declared ones are checked by sampling.
+    let mut analysis = analysis::analyse(&merged, true);
+    diags.append(&mut analysis.diagnostics);
+    if diags.iter().any(|d| d.is_error()) {
+        return (None, diags);
+    }
     let funcs = to_ssa::functions(&merged);
     let mut errors = Vec::new();
     let mut opt = |f: &Func| {
@@ -107,6 +116,7 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
         distance,
         material,
         groups,
+        analysis,
     };
     (
         Some(Stages {

@@ -150,6 +150,37 @@ pub enum PointMap {
     Elongate(NodeId),
 }
 
+/// A declared `lipschitz: L` argument: its value node and where it was written.
+pub type Declared = Option<(NodeId, Span)>;
+
+/// Point maps that are not isometries: the child's distance at the mapped point is only a
+/// bound, so the node normalises it by the map's Lipschitz constant (see `crate::lipschitz`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WarpMap {
+    /// `stretch(s, [sx, sy, sz])`: the child at `p / s`, distance times `min(s)`.
+    Stretch(NodeId),
+    /// `shear(s, [kxy, kxz, kyz])`: the child at the inverse-sheared point.
+    Shear(NodeId),
+    /// `twist(s, k)`: about y, `k` radians per unit of y.
+    Twist(NodeId),
+    /// `bend(s, k)`: in the xy plane, `k` radians per unit of x.
+    Bend(NodeId),
+    /// `warp(s, |p| v)`: the child at `v(p)` (a vec3 body of lambda `lambda`).
+    Lambda { body: NodeId, lambda: u32 },
+}
+
+impl WarpMap {
+    pub fn name(self) -> &'static str {
+        match self {
+            WarpMap::Stretch(_) => "stretch",
+            WarpMap::Shear(_) => "shear",
+            WarpMap::Twist(_) => "twist",
+            WarpMap::Bend(_) => "bend",
+            WarpMap::Lambda { .. } => "warp",
+        }
+    }
+}
+
 /// How a node changes its child's distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DistMod {
@@ -165,19 +196,34 @@ pub enum ShapeKind {
         prim: Prim,
         args: Vec<NodeId>,
     },
-    /// `sdf(|p| body, lipschitz: L)`: the body uses `LambdaArg { lambda, 0 }` as its point.
+    /// `sdf(|p| body, lipschitz: L)`: the body uses `LambdaArg { lambda, 0 }` as its point;
+    /// `declared` is where `lipschitz:` was written (absent: the default 1).
     Sdf {
         body: NodeId,
         lambda: u32,
         lipschitz: NodeId,
+        declared: Option<Span>,
     },
     /// `displace(child, |p| body, lipschitz: L)`: `(d + body(p)) / L`, with `L` the declared
-    /// bound of the displaced distance.
+    /// bound of the displaced distance, or the one `crate::lipschitz` derives when none is.
     Displace {
         child: ShapeId,
         body: NodeId,
         lambda: u32,
-        lipschitz: NodeId,
+        lipschitz: Declared,
+    },
+    /// A non-isometric point map (stretch, shear, twist, bend, warp), normalised at the node.
+    Warp {
+        map: WarpMap,
+        child: ShapeId,
+        lipschitz: Declared,
+    },
+    /// `heightfield(|x, z| h, lipschitz: L)`: `(p.y - h(p.x, p.z)) / sqrt(1 + L^2)`; the
+    /// body uses `LambdaArg { lambda, 0 }` for x and `{ lambda, 1 }` for z.
+    Heightfield {
+        body: NodeId,
+        lambda: u32,
+        lipschitz: Declared,
     },
     Combine {
         op: CombineOp,

@@ -2,6 +2,7 @@
 //! `scene_material(p)`: point maps become arithmetic on `p`, primitives become helper calls,
 //! combinations become `min`/`max` (and, for materials, selects and blends).
 
+use crate::analysis::NodeInfo;
 use crate::func::{Func, FuncKind};
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
@@ -11,6 +12,8 @@ use crate::scene::{Material, Scene};
 use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
 use crate::value::Value;
+
+mod warp;
 
 /// The material of a point: `albedo` (rgb, reflectivity) and `phong` (ambient, diffuse,
 /// specular, shininess), both vec4.
@@ -41,8 +44,10 @@ pub struct Functions {
 /// Builds `scene_distance` and `scene_material` (and their group functions).
 pub fn functions(scene: &Scene) -> Functions {
     let counts = crate::lower::expansion::instance_counts(&scene.shapes);
+    let analysis = crate::analysis::analyse(scene, false);
+    let info = &analysis.nodes[..];
     let mut groups = Groups::default();
-    let mut b = Builder::new(scene, &counts, false, groups);
+    let mut b = Builder::new(scene, &counts, info, false, groups);
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
     let distance = Func {
@@ -52,7 +57,7 @@ pub fn functions(scene: &Scene) -> Functions {
         results: vec![d],
     };
     groups = b.groups;
-    let mut b = Builder::new(scene, &counts, true, groups);
+    let mut b = Builder::new(scene, &counts, info, true, groups);
     let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
     let m = m.unwrap_or_else(|| b.material_const(0));
@@ -83,6 +88,8 @@ struct Builder<'s> {
     counts: &'s [u64],
     /// The shape whose group function this builder is building: inlined, not outlined again.
     body_of: Option<ShapeId>,
+    /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes.
+    info: &'s [NodeInfo],
     g: Graph,
     materials: bool,
     imported: FxHashMap<NodeId, NodeId>,
@@ -92,11 +99,18 @@ struct Builder<'s> {
 }
 
 impl<'s> Builder<'s> {
-    fn new(scene: &'s Scene, counts: &'s [u64], materials: bool, groups: Groups) -> Builder<'s> {
+    fn new(
+        scene: &'s Scene,
+        counts: &'s [u64],
+        info: &'s [NodeInfo],
+        materials: bool,
+        groups: Groups,
+    ) -> Builder<'s> {
         Builder {
             scene,
             counts,
             body_of: None,
+            info,
             g: Graph::new(),
             materials,
             imported: FxHashMap::default(),
@@ -122,6 +136,7 @@ impl<'s> Builder<'s> {
                 let mut sub = Builder::new(
                     self.scene,
                     self.counts,
+                    self.info,
                     true,
                     std::mem::take(&mut self.groups),
                 );
@@ -166,8 +181,8 @@ impl<'s> Builder<'s> {
     }
 
     /// Copies a value-graph node (and what it uses) into the function; lambda parameter
-    /// `(lambda, 0)` becomes `point` when `subst` is given.
-    fn import(&mut self, id: NodeId, subst: Option<(u32, NodeId)>) -> NodeId {
+    /// `(lambda, i)` becomes `args[i]` when `subst` is `Some((lambda, args))`.
+    fn import(&mut self, id: NodeId, subst: Option<(u32, &[NodeId])>) -> NodeId {
         let vals = &self.scene.values;
         let mut local: FxHashMap<NodeId, NodeId> = FxHashMap::default();
         let mut stack = vec![id];
@@ -199,7 +214,11 @@ impl<'s> Builder<'s> {
                 .map(|a| lookup(*a, &local, &self.imported))
                 .collect();
             let new = match (node.op, subst) {
-                (Op::LambdaArg { lambda, index: 0 }, Some((l, p))) if lambda == l => p,
+                (Op::LambdaArg { lambda, index }, Some((l, ps)))
+                    if lambda == l && (index as usize) < ps.len() =>
+                {
+                    ps[index as usize]
+                }
                 (Op::Param(_) | Op::LambdaArg { .. }, _) => {
                     self.g.input(node.op, node.ty, vals.span(n))
                 }
@@ -267,8 +286,9 @@ impl<'s> Builder<'s> {
                 body,
                 lambda,
                 lipschitz,
+                ..
             } => {
-                let d = self.import(*body, Some((*lambda, p)));
+                let d = self.import(*body, Some((*lambda, &[p])));
                 let l = self.import(*lipschitz, None);
                 let d = self.op(Op::Div, &[d, l]);
                 let d = self.hinted(d, "d");
@@ -281,8 +301,8 @@ impl<'s> Builder<'s> {
                 lipschitz,
             } => {
                 let (d, m) = self.shape(*child, p, mat);
-                let f = self.import(*body, Some((*lambda, p)));
-                let l = self.import(*lipschitz, None);
+                let f = self.import(*body, Some((*lambda, &[p])));
+                let l = self.divisor(s, *lipschitz);
                 let d = self.op(Op::Add, &[d, f]);
                 let d = self.op(Op::Div, &[d, l]);
                 (self.hinted(d, "d"), m)
@@ -309,6 +329,25 @@ impl<'s> Builder<'s> {
                 (self.hinted(d, "d"), m)
             }
             ShapeKind::Material { material, child } => self.shape(*child, p, *material),
+            ShapeKind::Warp {
+                map,
+                child,
+                lipschitz,
+            } => self.warp(s, *map, *child, *lipschitz, p, mat),
+            ShapeKind::Heightfield { body, lambda, .. } => {
+                // (p.y - h(p.x, p.z)) / sqrt(1 + L^2)
+                let x = self.op(Op::Swizzle(Swizzle::new(&[0])), &[p]);
+                let y = self.op(Op::Swizzle(Swizzle::new(&[1])), &[p]);
+                let z = self.op(Op::Swizzle(Swizzle::new(&[2])), &[p]);
+                let h = self.import(*body, Some((*lambda, &[x, z])));
+                let d = self.op(Op::Sub, &[y, h]);
+                let l = self.divisor(s, None);
+                let d = self.op(Op::Div, &[d, l]);
+                (
+                    self.hinted(d, "d"),
+                    self.materials.then(|| self.material_const(mat)),
+                )
+            }
         };
         self.memo.insert(key, out);
         out

@@ -80,6 +80,17 @@ fn noise_and_fbm() {
     corpus("tests/scenes/noise_fbm.sdf", 10);
 }
 
+/// The bound-only operations: their point maps and per-point divisors, in WGSL and on the CPU.
+#[test]
+fn bound_only_operations() {
+    corpus("tests/scenes/stretch.sdf", 11);
+    corpus("tests/scenes/shear.sdf", 12);
+    corpus("tests/scenes/twist.sdf", 13);
+    corpus("tests/scenes/bend.sdf", 14);
+    corpus("tests/scenes/warp.sdf", 15);
+    corpus("tests/scenes/heightfield.sdf", 16);
+}
+
 #[test]
 fn params_and_time() {
     let compiled = compile_file("tests/scenes/params_time.sdf");

@@ -53,10 +53,16 @@ pub const SHAPE_FUNCTIONS: &[&str] = &[
     "material",
     "color",
     "displace",
+    "stretch",
+    "shear",
+    "twist",
+    "bend",
+    "warp",
+    "heightfield",
 ];
 
 /// Part of the language (spec sections 3-5) but not built in this version yet.
-pub const NOT_YET: &[&str] = &["heightfield", "stretch", "shear", "twist", "bend", "warp"];
+pub const NOT_YET: &[&str] = &[];
 
 /// The math built-ins users may call (`round` is the shape operation, not WGSL's).
 fn user_math(name: &str) -> Option<Builtin> {

@@ -45,8 +45,9 @@ pub fn instance_counts(shapes: &[ShapeNode]) -> Vec<u64> {
 /// The direct children of a shape node.
 pub fn children(kind: &ShapeKind) -> &[ShapeId] {
     match kind {
-        ShapeKind::Prim { .. } | ShapeKind::Sdf { .. } => &[],
+        ShapeKind::Prim { .. } | ShapeKind::Sdf { .. } | ShapeKind::Heightfield { .. } => &[],
         ShapeKind::Displace { child, .. }
+        | ShapeKind::Warp { child, .. }
         | ShapeKind::Map { child, .. }
         | ShapeKind::Modify { child, .. }
         | ShapeKind::Material { child, .. } => std::slice::from_ref(child),

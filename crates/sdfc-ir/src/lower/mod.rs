@@ -9,6 +9,7 @@ mod prims;
 mod scope;
 mod settings;
 mod shapes;
+mod warps;
 
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;

@@ -75,6 +75,9 @@ impl<'a> Lowerer<'a> {
                 }
             }
             "sdf" | "displace" => return self.lambda_shape_call(name, args, span, scope),
+            "stretch" | "shear" | "twist" | "bend" | "warp" | "heightfield" => {
+                self.warp_call(name, args, span, scope)?
+            }
             "material" => return self.material_call(args, span, scope),
             "color" => {
                 let b =
@@ -360,41 +363,21 @@ impl<'a> Lowerer<'a> {
             }
         };
         let (lambda, body) = self.apply_lambda(&lam, &[Ty::Vec3], name, Ty::F32)?;
-        let lipschitz = match b[1] {
-            Some(le) => {
-                let l = self.arg_num(le, scope, "the Lipschitz bound")?;
-                match self.const_of(l) {
-                    Some(Value::F(x)) if x > 0.0 => l,
-                    Some(Value::F(x)) => {
-                        return Err(self.error(
-                            Diagnostic::error(
-                                le.span,
-                                format!("the Lipschitz bound must be positive, found {x}"),
-                            )
-                            .with_label("not positive"),
-                        ))
-                    }
-                    _ => {
-                        return Err(self.error(
-                            Diagnostic::error(le.span, "the Lipschitz bound must be a constant")
-                                .with_label("depends on a param or time"),
-                        ))
-                    }
-                }
-            }
-            None => self.g.f32(1.0),
-        };
+        let declared = b[1]
+            .map(|le| self.declared_lipschitz(le, scope))
+            .transpose()?;
         let kind = match child {
             None => ShapeKind::Sdf {
                 body,
                 lambda,
-                lipschitz,
+                lipschitz: declared.map_or_else(|| self.g.f32(1.0), |d| d.0),
+                declared: declared.map(|d| d.1),
             },
             Some(child) => ShapeKind::Displace {
                 child,
                 body,
                 lambda,
-                lipschitz,
+                lipschitz: declared,
             },
         };
         Ok(Val::Shape(self.shape(kind, span)))

@@ -152,11 +152,28 @@ impl Merger<'_> {
                 let child = self.shape(child);
                 self.push(ShapeKind::Modify { modifier, child }, node.span)
             }
+            ShapeKind::Warp {
+                map,
+                child,
+                lipschitz,
+            } => {
+                let child = self.shape(child);
+                self.push(
+                    ShapeKind::Warp {
+                        map,
+                        child,
+                        lipschitz,
+                    },
+                    node.span,
+                )
+            }
             ShapeKind::Material { material, child } => {
                 let child = self.shape(child);
                 self.push(ShapeKind::Material { material, child }, node.span)
             }
-            kind @ (ShapeKind::Prim { .. } | ShapeKind::Sdf { .. }) => self.push(kind, node.span),
+            kind @ (ShapeKind::Prim { .. }
+            | ShapeKind::Sdf { .. }
+            | ShapeKind::Heightfield { .. }) => self.push(kind, node.span),
         };
         self.map.insert(id, out);
         out

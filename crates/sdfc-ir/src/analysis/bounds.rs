@@ -1,0 +1,126 @@
+//! Conservative axis-aligned bounds of shapes (components may be infinite), for the
+//! Lipschitz constants of twist and bend and for the regions the sampling check covers.
+
+use crate::shape::Prim;
+use crate::value::Value;
+
+/// A box `lo..hi` per axis; an unbounded axis has infinite ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub lo: [f64; 3],
+    pub hi: [f64; 3],
+}
+
+impl Aabb {
+    pub const EVERYTHING: Aabb = Aabb {
+        lo: [f64::NEG_INFINITY; 3],
+        hi: [f64::INFINITY; 3],
+    };
+
+    pub fn symmetric(h: [f64; 3]) -> Aabb {
+        Aabb {
+            lo: h.map(|x| -x),
+            hi: h,
+        }
+    }
+
+    pub fn is_bounded(&self) -> bool {
+        self.lo.iter().chain(&self.hi).all(|x| x.is_finite())
+    }
+
+    pub fn grow(&self, r: f64) -> Aabb {
+        Aabb {
+            lo: self.lo.map(|x| x - r),
+            hi: self.hi.map(|x| x + r),
+        }
+    }
+
+    pub fn hull(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            lo: [0, 1, 2].map(|i| self.lo[i].min(o.lo[i])),
+            hi: [0, 1, 2].map(|i| self.hi[i].max(o.hi[i])),
+        }
+    }
+
+    pub fn intersect(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            lo: [0, 1, 2].map(|i| self.lo[i].max(o.lo[i])),
+            hi: [0, 1, 2].map(|i| self.hi[i].min(o.hi[i])),
+        }
+    }
+
+    /// The largest distance from the axis through the origin along `axis` (`0` x, `1` y,
+    /// `2` z) to a point of the box.
+    pub fn radius_about(&self, axis: usize) -> f64 {
+        (0..3)
+            .filter(|i| *i != axis)
+            .map(|i| self.lo[i].abs().max(self.hi[i].abs()).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    /// The box of the images of this box's corners under `f` (exact for linear maps).
+    pub fn map_corners(&self, f: impl Fn([f64; 3]) -> [f64; 3]) -> Aabb {
+        if !self.is_bounded() {
+            return Aabb::EVERYTHING;
+        }
+        let mut out = Aabb {
+            lo: [f64::INFINITY; 3],
+            hi: [f64::NEG_INFINITY; 3],
+        };
+        for k in 0..8 {
+            let c = [0, 1, 2].map(|i| {
+                if k >> i & 1 == 0 {
+                    self.lo[i]
+                } else {
+                    self.hi[i]
+                }
+            });
+            let q = f(c);
+            for (i, x) in q.into_iter().enumerate() {
+                out.lo[i] = out.lo[i].min(x);
+                out.hi[i] = out.hi[i].max(x);
+            }
+        }
+        out
+    }
+}
+
+/// Bounds of a primitive from its constant arguments (`None` where one is not constant).
+#[allow(unreachable_patterns)]
+pub fn prim(prim: Prim, args: &[Option<Value<f32>>]) -> Aabb {
+    let f = |i: usize| match args.get(i) {
+        Some(Some(Value::F(x))) => Some(*x as f64),
+        _ => None,
+    };
+    let v = |i: usize| match args.get(i) {
+        Some(Some(Value::V3(x))) => Some(x.map(|c| c as f64)),
+        _ => None,
+    };
+    let b = match prim {
+        Prim::Sphere => f(0).map(|r| Aabb::symmetric([r; 3])),
+        Prim::Box | Prim::RoundBox => v(0).map(|s| Aabb::symmetric(s.map(|x| x * 0.5))),
+        Prim::Plane => None,
+        Prim::Torus => match (f(0), f(1)) {
+            (Some(big), Some(r)) => Some(Aabb::symmetric([big + r, r, big + r])),
+            _ => None,
+        },
+        Prim::Cylinder => match (f(0), f(1)) {
+            (Some(r), Some(h)) => Some(Aabb::symmetric([r, h * 0.5, r])),
+            _ => None,
+        },
+        Prim::Capsule => match (v(0), v(1), f(2)) {
+            (Some(a), Some(b), Some(r)) => Some(
+                Aabb {
+                    lo: [0, 1, 2].map(|i| a[i].min(b[i])),
+                    hi: [0, 1, 2].map(|i| a[i].max(b[i])),
+                }
+                .grow(r),
+            ),
+            _ => None,
+        },
+        // Primitives without a bound here count as unbounded (sound, if unhelpful).
+        _ => None,
+    };
+    b.unwrap_or(Aabb::EVERYTHING)
+}

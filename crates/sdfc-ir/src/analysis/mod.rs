@@ -1,0 +1,775 @@
+//! Exactness and Lipschitz analysis of the shape DAG. For every shape node: whether its
+//! distance is exact (outside the shape, where the marcher walks), a bound, or neither;
+//! conservative bounds; and, for the bound-only nodes (stretch, shear, twist, bend, warp,
+//! displace, heightfield, sdf), the Lipschitz constant `L` of the field they compute before
+//! they normalise it. Safe stepping is done at those nodes: each divides its field by its
+//! `L` (see `to_ssa`), so every node's distance is 1-Lipschitz and exact subtrees elsewhere
+//! in the scene keep full steps. Declared `lipschitz:` bounds are checked by sampling.
+
+pub mod bounds;
+mod explain;
+pub mod gradient;
+pub mod sample;
+
+use crate::graph::NodeId;
+use crate::hash::FxHashMap;
+use crate::ops::Op;
+use crate::passes::fold::const_value;
+use crate::scene::Scene;
+use crate::shape::{CombineOp, Declared, DistMod, PointMap, ShapeKind, WarpMap};
+use crate::value::Value;
+use bounds::Aabb;
+pub use explain::explain;
+use gradient::Comp;
+use sdfc_syntax::diag::Diagnostic;
+use sdfc_syntax::span::Span;
+
+/// What a node's distance is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Exactness {
+    /// The Euclidean distance, at least outside the shape.
+    Exact,
+    /// Never more than the distance (1-Lipschitz and zero on the surface).
+    Bound,
+    /// Not even a bound (a repeated shape that does not fit its cell, say).
+    Neither,
+}
+
+impl Exactness {
+    pub fn name(self) -> &'static str {
+        match self {
+            Exactness::Exact => "exact",
+            Exactness::Bound => "bound",
+            Exactness::Neither => "neither",
+        }
+    }
+}
+
+/// Where a node's Lipschitz constant comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// A `lipschitz:` argument.
+    Declared,
+    /// Derived by the compiler (matrix norms, bounds, gradient bounds of the expression).
+    Derived,
+    /// The language's default (`sdf` without `lipschitz:` has L = 1).
+    Default,
+    /// Computed per point at run time (twist and bend outside their child's bounds, a
+    /// shear by params): only the value inside the bounds is known here.
+    Symbolic,
+}
+
+/// The analysis of one shape node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeInfo {
+    pub exactness: Exactness,
+    /// Conservative bounds of the shape (infinite where unbounded).
+    pub bounds: Aabb,
+    /// For bound-only nodes: the Lipschitz constant of the field the node divides by it
+    /// (`None` where it depends on a param); `None` for the other nodes too.
+    pub lipschitz: Option<f64>,
+    pub source: Option<Source>,
+    /// Whether the node normalises its field (bound-only nodes).
+    pub normalises: bool,
+}
+
+/// The analysis of a scene, node by node (indexed like `Scene::shapes`).
+#[derive(Clone, Debug, Default)]
+pub struct Analysis {
+    pub nodes: Vec<NodeInfo>,
+    /// Errors (a twist of an unbounded shape with no declared bound, a displacement whose
+    /// slope nothing bounds) and warnings (declared bounds contradicted by sampling).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// How far the sampling check reaches on unbounded axes.
+pub const DEFAULT_REGION: f64 = 4.0;
+
+/// At most this many declared bounds are checked per scene (the first in the shape DAG's
+/// order), so that compile time stays bounded for scenes with thousands of displacements.
+pub const MAX_CHECKED: usize = 64;
+
+/// Relative slack for the declared-bound check (finite differences in f64 are far more
+/// accurate than this; it keeps rounding from raising a warning).
+const CHECK_SLACK: f64 = 1e-3;
+
+/// Analyses every shape of `scene`; `check` runs the sampling check of declared bounds.
+pub fn analyse(scene: &Scene, check: bool) -> Analysis {
+    let mut a = Analyser {
+        scene,
+        memo: FxHashMap::default(),
+        out: Analysis::default(),
+        check,
+        checked: 0,
+    };
+    for i in 0..scene.shapes.len() {
+        let info = a.node(i);
+        a.out.nodes.push(info);
+    }
+    a.out
+}
+
+struct Analyser<'s> {
+    scene: &'s Scene,
+    memo: FxHashMap<NodeId, Option<Value<f32>>>,
+    out: Analysis,
+    check: bool,
+    /// Declared bounds checked so far.
+    checked: usize,
+}
+
+/// The spectral norm of a 3x3 matrix (rows), from the largest eigenvalue of `A^T A` in
+/// closed form, rounded up slightly so that it stays an upper bound (a diagonal `A^T A`
+/// needs no margin: its largest entry is the eigenvalue).
+pub fn spectral_norm(a: [[f64; 3]; 3]) -> f64 {
+    let b = |i: usize, j: usize| (0..3).map(|k| a[k][i] * a[k][j]).sum::<f64>();
+    let p1 = b(0, 1).powi(2) + b(0, 2).powi(2) + b(1, 2).powi(2);
+    if p1 == 0.0 {
+        return b(0, 0).max(b(1, 1)).max(b(2, 2)).sqrt();
+    }
+    let lambda = {
+        let q = (b(0, 0) + b(1, 1) + b(2, 2)) / 3.0;
+        let p2 = (b(0, 0) - q).powi(2) + (b(1, 1) - q).powi(2) + (b(2, 2) - q).powi(2) + 2.0 * p1;
+        let p = (p2 / 6.0).sqrt();
+        let n = |i: usize, j: usize| (b(i, j) - if i == j { q } else { 0.0 }) / p;
+        let det = n(0, 0) * (n(1, 1) * n(2, 2) - n(1, 2) * n(2, 1))
+            - n(0, 1) * (n(1, 0) * n(2, 2) - n(1, 2) * n(2, 0))
+            + n(0, 2) * (n(1, 0) * n(2, 1) - n(1, 1) * n(2, 0));
+        let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
+        q + 2.0 * p * phi.cos()
+    };
+    lambda.max(0.0).sqrt() * (1.0 + 1e-9)
+}
+
+/// The rows of the inverse of the shear `x += kxy y + kxz z, y += kyz z`.
+pub fn shear_inverse(k: [f64; 3]) -> [[f64; 3]; 3] {
+    let [kxy, kxz, kyz] = k;
+    [
+        [1.0, -kxy, kxy * kyz - kxz],
+        [0.0, 1.0, -kyz],
+        [0.0, 0.0, 1.0],
+    ]
+}
+
+/// The Lipschitz constant of the twist map `p -> rot_y(-k p.y) p` where `|k| r <= kr`:
+/// its Jacobian is `[[R, k w], [0, 1]]` with `|w| = r`, whose largest singular value is
+/// `t + sqrt(1 + t^2)` with `t = |k| r / 2`.
+pub fn twist_lipschitz(kr: f64) -> f64 {
+    let t = kr.abs() * 0.5;
+    t + (1.0 + t * t).sqrt()
+}
+
+/// The Lipschitz constant of the bend map (a rotation about z by `k p.x`) where
+/// `|k| sqrt(x^2 + y^2) <= kr`: its Jacobian is a rotation times `I + u e_x^T` with
+/// `|u| = kr`, whose norm is at most `1 + kr`.
+pub fn bend_lipschitz(kr: f64) -> f64 {
+    1.0 + kr.abs()
+}
+
+impl Analyser<'_> {
+    fn konst(&mut self, n: NodeId) -> Option<Value<f32>> {
+        const_value(&self.scene.values, n, &mut self.memo)
+    }
+
+    fn scalar(&mut self, n: NodeId) -> Option<f64> {
+        self.konst(n).and_then(|v| v.scalar()).map(|x| x as f64)
+    }
+
+    fn vec3(&mut self, n: NodeId) -> Option<[f64; 3]> {
+        match self.konst(n) {
+            Some(Value::V3(v)) => Some(v.map(|x| x as f64)),
+            Some(Value::F(x)) => Some([x as f64; 3]),
+            _ => None,
+        }
+    }
+
+    fn info(&self, s: crate::shape::ShapeId) -> &NodeInfo {
+        &self.out.nodes[s.index()]
+    }
+
+    fn node(&mut self, i: usize) -> NodeInfo {
+        let node = &self.scene.shapes[i];
+        let span = node.span;
+        let plain = |exactness, bounds| NodeInfo {
+            exactness,
+            bounds,
+            lipschitz: None,
+            source: None,
+            normalises: false,
+        };
+        match &node.kind {
+            ShapeKind::Prim { prim, args } => {
+                let vals: Vec<Option<Value<f32>>> = args.iter().map(|a| self.konst(*a)).collect();
+                let e = if prim.exact() {
+                    Exactness::Exact
+                } else {
+                    Exactness::Bound
+                };
+                plain(e, bounds::prim(*prim, &vals))
+            }
+            ShapeKind::Sdf {
+                body,
+                lambda,
+                lipschitz,
+                declared,
+            } => {
+                let l = self.scalar(*lipschitz);
+                if let (Some(l), Some(at)) = (l, declared) {
+                    self.check_declared(*body, *lambda, 1, l, None, *at, &Aabb::EVERYTHING, "sdf");
+                }
+                NodeInfo {
+                    exactness: Exactness::Bound,
+                    bounds: Aabb::EVERYTHING,
+                    lipschitz: l,
+                    source: Some(if declared.is_some() {
+                        Source::Declared
+                    } else {
+                        Source::Default
+                    }),
+                    normalises: true,
+                }
+            }
+            ShapeKind::Displace {
+                child,
+                body,
+                lambda,
+                lipschitz,
+            } => {
+                let c = self.info(*child).clone();
+                let slope = self.body_bound(*body, *lambda, 1);
+                let grow = slope.iter().map(|x| x.mag()).fold(0.0, f64::max);
+                let (l, source) = match lipschitz {
+                    Some((n, at)) => {
+                        let l = self.scalar(*n);
+                        if let Some(l) = l {
+                            self.check_declared(
+                                *body,
+                                *lambda,
+                                1,
+                                l,
+                                Some(*child),
+                                *at,
+                                &c.bounds.grow(grow),
+                                "displace",
+                            );
+                        }
+                        (l, Source::Declared)
+                    }
+                    None => {
+                        let g = slope.first().map_or(f64::INFINITY, |c| c.slope());
+                        if !g.is_finite() {
+                            self.out.diagnostics.push(
+                                Diagnostic::error(span, "the compiler cannot bound how fast this displacement changes")
+                                    .with_label("no Lipschitz bound")
+                                    .with_hint("declare one: `lipschitz: L` with L at least 1 plus the largest slope of the expression"),
+                            );
+                        }
+                        (Some(1.0 + g), Source::Derived)
+                    }
+                };
+                NodeInfo {
+                    exactness: c.exactness.max(Exactness::Bound),
+                    // The surface moves by at most the displacement's largest magnitude.
+                    bounds: if grow.is_finite() {
+                        c.bounds.grow(grow)
+                    } else {
+                        Aabb::EVERYTHING
+                    },
+                    lipschitz: l,
+                    source: Some(source),
+                    normalises: true,
+                }
+            }
+            ShapeKind::Heightfield {
+                body,
+                lambda,
+                lipschitz,
+            } => {
+                let (l, source) = match lipschitz {
+                    Some((n, at)) => {
+                        let l = self.scalar(*n);
+                        if let Some(l) = l {
+                            self.check_declared(
+                                *body,
+                                *lambda,
+                                2,
+                                l,
+                                None,
+                                *at,
+                                &Aabb::EVERYTHING,
+                                "heightfield",
+                            );
+                        }
+                        (l, Source::Declared)
+                    }
+                    None => {
+                        let g = self
+                            .body_bound(*body, *lambda, 2)
+                            .first()
+                            .map_or(f64::INFINITY, |c| c.slope());
+                        if !g.is_finite() {
+                            self.out.diagnostics.push(
+                                Diagnostic::error(span, "the compiler cannot bound the slope of this heightfield")
+                                    .with_label("no Lipschitz bound")
+                                    .with_hint("declare one: `lipschitz: L` with L at least the terrain's steepest slope"),
+                            );
+                        }
+                        (Some(g), Source::Derived)
+                    }
+                };
+                NodeInfo {
+                    exactness: Exactness::Bound,
+                    bounds: Aabb::EVERYTHING,
+                    // The field p.y - h is (1 + L^2)^(1/2)-Lipschitz.
+                    lipschitz: l.map(|l| (1.0 + l * l).sqrt()),
+                    source: Some(source),
+                    normalises: true,
+                }
+            }
+            ShapeKind::Warp {
+                map,
+                child,
+                lipschitz,
+            } => {
+                let c = self.info(*child).clone();
+                let declared = lipschitz.and_then(|(n, at)| self.scalar(n).map(|l| (l, at)));
+                let (bounds, l, source) = self.warp(*map, &c.bounds, declared, *lipschitz, span);
+                NodeInfo {
+                    exactness: c.exactness.max(Exactness::Bound),
+                    bounds,
+                    lipschitz: l,
+                    source: Some(source),
+                    normalises: true,
+                }
+            }
+            ShapeKind::Combine {
+                op,
+                smooth,
+                children,
+            } => {
+                let kids: Vec<NodeInfo> = children.iter().map(|c| self.info(*c).clone()).collect();
+                let worst = kids
+                    .iter()
+                    .map(|k| k.exactness)
+                    .max()
+                    .unwrap_or(Exactness::Exact);
+                let exactness = if *op == CombineOp::Union && smooth.is_none() {
+                    // A min of distances is the distance outside.
+                    worst
+                } else {
+                    worst.max(Exactness::Bound)
+                };
+                let mut b = match op {
+                    CombineOp::Union | CombineOp::Xor => {
+                        kids.iter().map(|k| k.bounds).reduce(|a, b| a.hull(&b))
+                    }
+                    CombineOp::Intersect => {
+                        kids.iter().map(|k| k.bounds).reduce(|a, b| a.intersect(&b))
+                    }
+                    CombineOp::Subtract => kids.first().map(|k| k.bounds),
+                }
+                .unwrap_or(Aabb::EVERYTHING);
+                if let (CombineOp::Union, Some(k)) = (op, smooth) {
+                    // The polynomial smooth min is at most k/4 below the min.
+                    b = match self.scalar(*k) {
+                        Some(k) => b.grow(k * 0.25),
+                        None => Aabb::EVERYTHING,
+                    };
+                }
+                plain(exactness, b)
+            }
+            ShapeKind::Map { map, child } => {
+                let c = self.info(*child).clone();
+                let (e, b) = self.point_map(map, &c);
+                plain(e, b)
+            }
+            ShapeKind::Modify { modifier, child } => {
+                let c = self.info(*child).clone();
+                let r = match modifier {
+                    DistMod::Round(r) | DistMod::Onion(r) => self.scalar(*r),
+                };
+                let b = match r {
+                    Some(r) => c.bounds.grow(r),
+                    None => Aabb::EVERYTHING,
+                };
+                plain(c.exactness, b)
+            }
+            ShapeKind::Material { child, .. } => {
+                let c = self.info(*child).clone();
+                plain(c.exactness, c.bounds)
+            }
+        }
+    }
+
+    fn point_map(&mut self, map: &PointMap, c: &NodeInfo) -> (Exactness, Aabb) {
+        match map {
+            PointMap::Affine { m, o, s } => {
+                // local = (m p + o) / s, so p = m^T (s local - o) (m is orthonormal).
+                let m = match m {
+                    Some(m) => match self.konst(*m) {
+                        Some(Value::M3(cols)) => Some(cols.map(|c| c.map(|x| x as f64))),
+                        _ => return (c.exactness, Aabb::EVERYTHING),
+                    },
+                    None => None,
+                };
+                let o = match o {
+                    Some(o) => match self.vec3(*o) {
+                        Some(v) => v,
+                        None => return (c.exactness, Aabb::EVERYTHING),
+                    },
+                    None => [0.0; 3],
+                };
+                let s = match s {
+                    Some(s) => match self.scalar(*s) {
+                        Some(v) => v,
+                        None => return (c.exactness, Aabb::EVERYTHING),
+                    },
+                    None => 1.0,
+                };
+                let b = c.bounds.map_corners(|l| {
+                    let v = [0, 1, 2].map(|i| s * l[i] - o[i]);
+                    match m {
+                        // m^T v: row r of m^T is column r of m.
+                        Some(cols) => [0, 1, 2].map(|r| (0..3).map(|k| cols[r][k] * v[k]).sum()),
+                        None => v,
+                    }
+                });
+                (c.exactness, b)
+            }
+            PointMap::Mirror(axis) => {
+                let a = *axis as usize;
+                let mut b = c.bounds;
+                let h = b.hi[a].max(0.0);
+                b.lo[a] = -h;
+                b.hi[a] = h;
+                (c.exactness.max(Exactness::Bound), b)
+            }
+            PointMap::Repeat { period } | PointMap::RepeatLimited { period, .. } => {
+                let count = match map {
+                    PointMap::RepeatLimited { count, .. } => Some(*count),
+                    _ => None,
+                };
+                let mut b = c.bounds;
+                let mut fits = true;
+                for i in 0..3 {
+                    let p = period[i] as f64;
+                    if p == 0.0 {
+                        continue;
+                    }
+                    // A copy that stays in its cell, centred, never hides a nearer neighbour
+                    // (for shapes symmetric about the cell's centre planes; not checked).
+                    fits &= b.lo[i] >= -p / 2.0 && b.hi[i] <= p / 2.0 && b.lo[i] == -b.hi[i];
+                    match count {
+                        Some(n) => {
+                            let e = p * (n[i] as f64 - 1.0) / 2.0;
+                            b.lo[i] -= e;
+                            b.hi[i] += e;
+                        }
+                        None => {
+                            b.lo[i] = f64::NEG_INFINITY;
+                            b.hi[i] = f64::INFINITY;
+                        }
+                    }
+                }
+                let e = if fits {
+                    c.exactness.max(Exactness::Bound)
+                } else {
+                    Exactness::Neither
+                };
+                (e, b)
+            }
+            PointMap::Elongate(h) => match self.vec3(*h) {
+                Some(h) => (
+                    c.exactness,
+                    Aabb {
+                        lo: [0, 1, 2].map(|i| c.bounds.lo[i] - h[i]),
+                        hi: [0, 1, 2].map(|i| c.bounds.hi[i] + h[i]),
+                    },
+                ),
+                None => (c.exactness, Aabb::EVERYTHING),
+            },
+        }
+    }
+
+    /// Bounds, Lipschitz constant and its source of a bound-only point map.
+    fn warp(
+        &mut self,
+        map: WarpMap,
+        child: &Aabb,
+        declared: Option<(f64, Span)>,
+        raw: Declared,
+        span: Span,
+    ) -> (Aabb, Option<f64>, Source) {
+        match map {
+            WarpMap::Stretch(s) => match self.vec3(s) {
+                Some(s) => {
+                    let b = child.map_corners(|p| [0, 1, 2].map(|i| p[i] * s[i]));
+                    (b, Some(1.0 / s[0].min(s[1]).min(s[2])), Source::Derived)
+                }
+                None => (Aabb::EVERYTHING, None, Source::Symbolic),
+            },
+            WarpMap::Shear(k) => match self.vec3(k) {
+                Some(k) => {
+                    let [kxy, kxz, kyz] = k;
+                    let b = child
+                        .map_corners(|p| [p[0] + kxy * p[1] + kxz * p[2], p[1] + kyz * p[2], p[2]]);
+                    (b, Some(spectral_norm(shear_inverse(k))), Source::Derived)
+                }
+                None => (Aabb::EVERYTHING, None, Source::Symbolic),
+            },
+            WarpMap::Twist(k) | WarpMap::Bend(k) => {
+                let twist = matches!(map, WarpMap::Twist(_));
+                // Twist keeps the distance from the y axis, bend that from the z axis.
+                let axis = if twist { 1 } else { 2 };
+                let r = child.radius_about(axis);
+                let mut b = Aabb::EVERYTHING;
+                if r.is_finite() {
+                    for i in (0..3).filter(|i| *i != axis) {
+                        b.lo[i] = -r;
+                        b.hi[i] = r;
+                    }
+                }
+                b.lo[axis] = child.lo[axis];
+                b.hi[axis] = child.hi[axis];
+                if let Some((l, _)) = declared {
+                    return (b, Some(l), Source::Declared);
+                }
+                if !r.is_finite() && raw.is_none() {
+                    let name = if twist { "twist" } else { "bend" };
+                    self.out.diagnostics.push(
+                        Diagnostic::error(span, format!("`{name}` of a shape with no bounds needs a declared Lipschitz bound"))
+                            .with_label("unbounded shape")
+                            .with_hint(format!("bound the shape (intersect it with a box), or give `lipschitz: L` with L at least 1 + |k| times the largest distance from the {} axis your scene reaches", if twist { "y" } else { "z" })),
+                    );
+                    return (b, None, Source::Symbolic);
+                }
+                let l = self.scalar(k).map(|k| {
+                    if twist {
+                        twist_lipschitz(k * r)
+                    } else {
+                        bend_lipschitz(k * r)
+                    }
+                });
+                (b, l, Source::Symbolic)
+            }
+            WarpMap::Lambda { body, lambda } => {
+                if let Some((l, at)) = declared {
+                    self.check_declared(body, lambda, 1, l, None, at, &Aabb::EVERYTHING, "warp");
+                    return (Aabb::EVERYTHING, Some(l), Source::Declared);
+                }
+                let j = gradient::jacobian_norm(&self.body_bound(body, lambda, 1));
+                if !j.is_finite() {
+                    self.out.diagnostics.push(
+                        Diagnostic::error(span, "the compiler cannot bound how much this warp stretches space")
+                            .with_label("no Lipschitz bound")
+                            .with_hint("declare one: `lipschitz: L` with L at least the largest stretch factor of the map"),
+                    );
+                }
+                (Aabb::EVERYTHING, Some(j), Source::Derived)
+            }
+        }
+    }
+
+    /// Value and gradient bounds of a lambda body over all of space (the segment from a
+    /// point to the nearest surface may leave any bounded region).
+    fn body_bound(&mut self, body: NodeId, lambda: u32, params: u8) -> Vec<Comp> {
+        let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        let input = |op: Op, width: usize| match op {
+            // `|p|`: the point; `|x, z|`: its x and z.
+            Op::LambdaArg { lambda: l, index } if l == lambda && index < params => {
+                Some(if params == 1 {
+                    (0..width).map(|i| Comp::coord(i, lo, hi)).collect()
+                } else {
+                    vec![Comp::coord(2 * index as usize, lo, hi)]
+                })
+            }
+            // Params and time vary at run time but not with the point.
+            Op::Param(_) | Op::Time => Some(vec![Comp::fixed(lo, hi); width]),
+            _ => None,
+        };
+        gradient::bound(&self.scene.values, body, &input)
+    }
+
+    /// Warns when sampling finds the point function's slope above its declared bound (for
+    /// `displace`, the bound is that of the displaced distance: the child's distance plus
+    /// the expression, and `child` is that child).
+    #[allow(clippy::too_many_arguments)]
+    fn check_declared(
+        &mut self,
+        body: NodeId,
+        lambda: u32,
+        params: u8,
+        declared: f64,
+        child: Option<crate::shape::ShapeId>,
+        at: Span,
+        region: &Aabb,
+        name: &str,
+    ) {
+        if !self.check || self.checked >= MAX_CHECKED {
+            return;
+        }
+        self.checked += 1;
+        let region = Aabb {
+            lo: region.lo.map(|x| x.max(-DEFAULT_REGION)),
+            hi: region.hi.map(|x| x.min(DEFAULT_REGION)),
+        };
+        let params_now: Vec<Value<f64>> =
+            self.scene.params.iter().map(|p| p.default.cast()).collect();
+        let ev = sample::LambdaEval::new(&self.scene.values, body, lambda, params_now.clone());
+        // The child's distance function, for `displace`.
+        let child_fn = child.map(|c| {
+            let sub = Scene {
+                root: c,
+                ..self.scene.clone()
+            };
+            crate::to_ssa::functions(&sub)
+        });
+        let f = |p: [f64; 3]| -> Vec<f64> {
+            let args = if params == 1 {
+                vec![Value::V3(p)]
+            } else {
+                vec![Value::F(p[0]), Value::F(p[2])]
+            };
+            let mut v = ev.eval(&args).comps();
+            if let (Some(fs), Some(x)) = (&child_fn, v.first_mut()) {
+                let inputs = crate::eval::Inputs {
+                    point: p,
+                    params: params_now.clone(),
+                    time: 0.0,
+                };
+                let d = crate::eval::eval_func(&fs.distance, &fs.groups, &inputs);
+                *x += d.first().and_then(|d| d.scalar()).unwrap_or(0.0);
+            }
+            v
+        };
+        let slope = sample::max_slope(&region, sample::SAMPLES, &f);
+        if slope > declared * (1.0 + CHECK_SLACK) + 1e-9 {
+            let what = match name {
+                "displace" => {
+                    format!("the displaced distance changes at up to {slope:.4} per unit")
+                }
+                "warp" => format!("the warp stretches space by up to {slope:.4}"),
+                "heightfield" => format!("the terrain's slope reaches {slope:.4}"),
+                _ => format!("the distance expression's slope reaches {slope:.4}"),
+            };
+            self.out.diagnostics.push(
+                Diagnostic::warning(at, format!("the declared Lipschitz bound {} of `{name}` is too small: {what}", declared as f32))
+                    .with_label("contradicted by sampling")
+                    .with_hint(if slope > JUMP {
+                        "the expression seems to jump (a `step`, `floor`, `fract` or `select` of the point?): no bound makes a discontinuous distance safe".to_string()
+                    } else {
+                        format!("use `lipschitz: {}` or more; a bound that is too small lets rays step through the surface", round_up(slope))
+                    }),
+            );
+        }
+    }
+}
+
+/// A sampled slope above this is taken for a discontinuity.
+const JUMP: f64 = 1e3;
+
+/// A value rounded up to 3 significant digits, for hints.
+fn round_up(x: f64) -> f64 {
+    if x.is_nan() || x <= 0.0 || !x.is_finite() {
+        return x;
+    }
+    let e = 10f64.powi(x.log10().floor() as i32 - 2);
+    (x / e).ceil() * e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The spectral norm of `m` by power iteration on `m^T m` (a lower estimate that
+    /// converges to the true value), for comparison with the closed form.
+    fn power(m: [[f64; 3]; 3]) -> f64 {
+        let mut v = [0.3, 0.5, 0.7];
+        let mul = |v: [f64; 3]| [0, 1, 2].map(|i| (0..3).map(|j| m[i][j] * v[j]).sum::<f64>());
+        let mul_t = |v: [f64; 3]| [0, 1, 2].map(|j| (0..3).map(|i| m[i][j] * v[i]).sum::<f64>());
+        for _ in 0..500 {
+            let w = mul_t(mul(v));
+            let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            v = w.map(|x| x / n);
+        }
+        let w = mul(v);
+        (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt()
+    }
+
+    #[test]
+    fn spectral_norm_matches_power_iteration_and_never_undershoots() {
+        assert_eq!(
+            spectral_norm([[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]]),
+            3.0
+        );
+        for k in [
+            [0.5, 0.0, 0.25],
+            [1.0, -2.0, 0.5],
+            [0.0, 0.0, 3.0],
+            [0.1, 0.2, 0.3],
+        ] {
+            let m = shear_inverse(k);
+            let (closed, iter) = (spectral_norm(m), power(m));
+            assert!(closed >= iter, "{k:?}: {closed} < {iter}");
+            assert!((closed - iter) / iter < 1e-8, "{k:?}: {closed} vs {iter}");
+        }
+        // The inverse really inverts the shear.
+        let k = [0.5, -0.3, 0.25];
+        let m = shear_inverse(k);
+        let p = [0.7, -1.1, 0.4];
+        let fwd = [p[0] + k[0] * p[1] + k[1] * p[2], p[1] + k[2] * p[2], p[2]];
+        let back = [0, 1, 2].map(|i| (0..3).map(|j| m[i][j] * fwd[j]).sum::<f64>());
+        for i in 0..3 {
+            assert!((back[i] - p[i]).abs() < 1e-15);
+        }
+    }
+
+    /// The Jacobian of `f` at `p` by central differences, as rows.
+    fn jacobian(f: impl Fn([f64; 3]) -> [f64; 3], p: [f64; 3]) -> [[f64; 3]; 3] {
+        let h = 1e-6;
+        let mut j = [[0.0; 3]; 3];
+        for c in 0..3 {
+            let (mut a, mut b) = (p, p);
+            a[c] += h;
+            b[c] -= h;
+            let (fa, fb) = (f(a), f(b));
+            for r in 0..3 {
+                j[r][c] = (fa[r] - fb[r]) / (2.0 * h);
+            }
+        }
+        j
+    }
+
+    #[test]
+    fn twist_and_bend_constants_bound_their_maps_jacobians() {
+        let k: f64 = 1.5;
+        let twist = |p: [f64; 3]| {
+            let (s, c) = (k * p[1]).sin_cos();
+            [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]]
+        };
+        let bend = |p: [f64; 3]| {
+            let (s, c) = (k * p[0]).sin_cos();
+            [c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2]]
+        };
+        for r in [0.1, 0.7, 2.0] {
+            let mut worst: f64 = 0.0;
+            for a in 0..64 {
+                let t = a as f64 * std::f64::consts::TAU / 64.0;
+                let (s, c) = t.sin_cos();
+                worst = worst.max(power(jacobian(twist, [r * c, 0.3, r * s])));
+            }
+            let l = twist_lipschitz(k * r);
+            // t + sqrt(1 + t^2) is the largest singular value, reached at every angle (the
+            // finite differences are good to about 1e-9).
+            assert!((l - worst).abs() < 1e-8, "twist r {r}: {l} vs {worst}");
+            let mut worst: f64 = 0.0;
+            for a in 0..64 {
+                let t = a as f64 * std::f64::consts::TAU / 64.0;
+                let (s, c) = t.sin_cos();
+                worst = worst.max(power(jacobian(bend, [r * c, r * s, 0.2])));
+            }
+            let l = bend_lipschitz(k * r);
+            assert!(l >= worst - 1e-8, "bend r {r}: {l} vs {worst}");
+        }
+    }
+}

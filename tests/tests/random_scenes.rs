@@ -19,7 +19,7 @@ proptest! {
             Ok(c) => c,
             Err(e) => return Err(TestCaseError::fail(format!("{src}\n{e:?}"))),
         };
-        let lib = compile(&src, &Options { lib: true, import_path: None });
+        let lib = compile(&src, &Options { lib: true, ..Options::default() });
         prop_assert!(lib.is_ok(), "{src}: library form failed");
         let p = c.program();
         for pt in pts {

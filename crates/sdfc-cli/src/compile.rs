@@ -23,6 +23,10 @@ pub struct Args {
     /// not exact (line:column, exact/bound/neither, L)
     #[arg(long)]
     explain: bool,
+    /// Emit large unions without their bounding-box early-outs (same distances, slower
+    /// marching): to measure what culling gains
+    #[arg(long)]
+    no_cull: bool,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -46,6 +50,7 @@ pub fn run(a: Args) -> Outcome {
     let opts = sdfc_wgsl::Options {
         lib: a.lib,
         import_path: a.import_path.clone(),
+        no_cull: a.no_cull,
     };
     let text = if let Emit::Ast = a.emit {
         match sdfc_syntax::parse(&source) {

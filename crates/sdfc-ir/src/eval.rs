@@ -79,6 +79,19 @@ fn eval_graph_in<T: Float>(
                 .unwrap_or_else(|| zero_of(node.ty)),
             Op::LambdaArg { .. } => zero_of(node.ty),
             Op::Call { func, result } => match (groups.get(func as usize), args.first()) {
+                // A guarded call (culled unions): skipped where `bound >= best`, and then
+                // its distance is `bound` and its material zero, as the WGSL's `if` leaves it.
+                (Some(_), Some(Value::V3(_)))
+                    if matches!(
+                        (args.get(1), args.get(2)),
+                        (Some(Value::F(bound)), Some(Value::F(best))) if bound.partial_cmp(best) != Some(std::cmp::Ordering::Less)
+                    ) =>
+                {
+                    match (result, args[1]) {
+                        (0, b) => b,
+                        _ => zero_of(node.ty),
+                    }
+                }
                 (Some(f), Some(Value::V3(p))) => {
                     let r = calls.entry((func, node.args()[0])).or_insert_with(|| {
                         let sub = Inputs {

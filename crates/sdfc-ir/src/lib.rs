@@ -45,9 +45,31 @@ pub struct Stages {
     pub program: Program,
 }
 
-/// Lowers and optimises a parsed file. Returns the stages, or the diagnostics; warnings are
-/// returned in both cases.
+/// Choices of the compiler that do not change what a scene means.
+#[derive(Clone, Debug)]
+pub struct IrOptions {
+    /// Bounding-box early-outs in large unions (`to_ssa/cull.rs`); on by default.
+    pub cull: bool,
+}
+
+impl Default for IrOptions {
+    fn default() -> IrOptions {
+        IrOptions { cull: true }
+    }
+}
+
+/// Lowers and optimises a parsed file with the default options. Returns the stages, or the
+/// diagnostics; warnings are returned in both cases.
 pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnostic>) {
+    compile_with(file, source_len, &IrOptions::default())
+}
+
+/// [`compile`] with options.
+pub fn compile_with(
+    file: &File,
+    source_len: usize,
+    opts: &IrOptions,
+) -> (Option<Stages>, Vec<Diagnostic>) {
     let lowered = lower::lower(file, source_len);
     let mut diags = lowered.diagnostics;
     let Some(scene) = lowered.scene else {
@@ -60,7 +82,7 @@ pub fn compile(file: &File, source_len: usize) -> (Option<Stages>, Vec<Diagnosti
     if diags.iter().any(|d| d.is_error()) {
         return (None, diags);
     }
-    let funcs = to_ssa::functions(&merged);
+    let funcs = to_ssa::functions(&merged, opts.cull);
     let mut errors = Vec::new();
     let mut opt = |f: &Func| {
         let (f, e) = passes::optimise(f);

@@ -13,6 +13,7 @@ use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
 use crate::value::Value;
 
+mod cull;
 mod warp;
 
 /// The material of a point: `albedo` (rgb, reflectivity) and `phong` (ambient, diffuse,
@@ -42,12 +43,13 @@ pub struct Functions {
 }
 
 /// Builds `scene_distance` and `scene_material` (and their group functions).
-pub fn functions(scene: &Scene) -> Functions {
+pub fn functions(scene: &Scene, cull: bool) -> Functions {
     let counts = crate::lower::expansion::instance_counts(&scene.shapes);
     let analysis = crate::analysis::analyse(scene, false);
     let info = &analysis.nodes[..];
     let mut groups = Groups::default();
     let mut b = Builder::new(scene, &counts, info, false, groups);
+    b.cull = cull;
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
     let distance = Func {
@@ -58,6 +60,7 @@ pub fn functions(scene: &Scene) -> Functions {
     };
     groups = b.groups;
     let mut b = Builder::new(scene, &counts, info, true, groups);
+    b.cull = cull;
     let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
     let m = m.unwrap_or_else(|| b.material_const(0));
@@ -88,8 +91,11 @@ struct Builder<'s> {
     counts: &'s [u64],
     /// The shape whose group function this builder is building: inlined, not outlined again.
     body_of: Option<ShapeId>,
-    /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes.
+    /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes and the bounds
+    /// that culled unions test.
     info: &'s [NodeInfo],
+    /// Whether large unions get bounding-box early-outs (`cull.rs`).
+    cull: bool,
     g: Graph,
     materials: bool,
     imported: FxHashMap<NodeId, NodeId>,
@@ -111,6 +117,7 @@ impl<'s> Builder<'s> {
             counts,
             body_of: None,
             info,
+            cull: true,
             g: Graph::new(),
             materials,
             imported: FxHashMap::default(),
@@ -129,6 +136,18 @@ impl<'s> Builder<'s> {
     /// The group function for a union of `children` (built once, with its material part),
     /// and its call's results at `p`.
     fn group(&mut self, children: &[ShapeId], p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
+        self.group_call(children, p, mat, None)
+    }
+
+    /// [`Self::group`], with an optional guard `(bound, best)`: the call is made only where
+    /// `bound < best`, and otherwise its distance is `bound` (see `cull.rs`).
+    fn group_call(
+        &mut self,
+        children: &[ShapeId],
+        p: NodeId,
+        mat: u32,
+        guard: Option<(NodeId, NodeId)>,
+    ) -> (NodeId, Option<Mat>) {
         let key = (children.to_vec(), mat);
         let index = match self.groups.index.get(&key) {
             Some(i) => *i,
@@ -140,6 +159,7 @@ impl<'s> Builder<'s> {
                     true,
                     std::mem::take(&mut self.groups),
                 );
+                sub.cull = self.cull;
                 if let [only] = children {
                     sub.body_of = Some(*only);
                 }
@@ -158,13 +178,17 @@ impl<'s> Builder<'s> {
                 index
             }
         };
+        let args: Vec<NodeId> = match guard {
+            Some((bound, best)) => vec![p, bound, best],
+            None => vec![p],
+        };
         let call = |g: &mut Graph, result: u8, ty: Ty| {
             g.add_typed(
                 Op::Call {
                     func: index,
                     result,
                 },
-                &[p],
+                &args,
                 ty,
                 Default::default(),
             )
@@ -439,6 +463,11 @@ impl<'s> Builder<'s> {
         p: NodeId,
         mat: u32,
     ) -> (NodeId, Option<Mat>) {
+        if op == CombineOp::Union && smooth.is_none() && self.cull {
+            if let Some(out) = self.culled_union(children, p, mat) {
+                return out;
+            }
+        }
         let parts: Vec<(NodeId, Option<Mat>)> =
             if op == CombineOp::Union && smooth.is_none() && children.len() > GROUP_SIZE {
                 // Balanced groups of at most GROUP_SIZE children each, and at most

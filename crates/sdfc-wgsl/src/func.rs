@@ -43,17 +43,20 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
         }
     }
     // Which (group, argument) calls need more than the distance, per part.
-    let mut wants_material: BTreeMap<(bool, u32, NodeId), bool> = BTreeMap::new();
+    // Calls are keyed by part, group and arguments (the point, and for a guarded call its
+    // bound and the best distance so far).
+    type CallKey = (bool, u32, Vec<NodeId>);
+    let mut wants_material: BTreeMap<CallKey, bool> = BTreeMap::new();
     for (id, node) in g.nodes() {
         if let Op::Call { func, result } = node.op {
             *wants_material
-                .entry((first[id.index()], func, node.args()[0]))
+                .entry((first[id.index()], func, node.args().to_vec()))
                 .or_default() |= result > 0;
         }
     }
     let mut text: Vec<String> = vec![String::new(); g.len()];
     let mut counters: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut calls: BTreeMap<(bool, u32, NodeId), String> = BTreeMap::new();
+    let mut calls: BTreeMap<CallKey, String> = BTreeMap::new();
     let mut parts = [String::new(), String::new()];
     for (id, node) in g.nodes() {
         let part = first[id.index()];
@@ -64,7 +67,7 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             let Some(callee) = groups.get(func as usize) else {
                 continue;
             };
-            let key = (part, func, arg);
+            let key = (part, func, node.args().to_vec());
             let value = match calls.get(&key) {
                 Some(v) => v.clone(),
                 None => {
@@ -72,12 +75,21 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
                     let name = format!("s{n}");
                     *n += 1;
                     let flag = wants_material.get(&key).copied().unwrap_or(false);
-                    let _ = writeln!(
-                        out,
-                        "{indent}let {name} = {}({}, {flag});",
-                        callee.name,
-                        text[arg.index()]
-                    );
+                    let call = format!("{}({}, {flag})", callee.name, text[arg.index()]);
+                    if let [_, bound, best] = node.args() {
+                        // A culled union's early-out: the group runs only where its box
+                        // is nearer than the best distance so far.
+                        let (bound, best) = (&text[bound.index()], &text[best.index()]);
+                        let _ = writeln!(
+                            out,
+                            "{indent}var {name} = SceneSample({bound}, vec4<f32>(0.0), vec4<f32>(0.0));\n\
+                             {indent}if {bound} < {best} {{\n\
+                             {indent}    {name} = {call};\n\
+                             {indent}}}"
+                        );
+                    } else {
+                        let _ = writeln!(out, "{indent}let {name} = {call};");
+                    }
                     calls.insert(key, name.clone());
                     name
                 }

@@ -87,7 +87,6 @@ impl Aabb {
 }
 
 /// Bounds of a primitive from its constant arguments (`None` where one is not constant).
-#[allow(unreachable_patterns)]
 pub fn prim(prim: Prim, args: &[Option<Value<f32>>]) -> Aabb {
     let f = |i: usize| match args.get(i) {
         Some(Some(Value::F(x))) => Some(*x as f64),
@@ -119,8 +118,48 @@ pub fn prim(prim: Prim, args: &[Option<Value<f32>>]) -> Aabb {
             ),
             _ => None,
         },
-        // Primitives without a bound here count as unbounded (sound, if unhelpful).
-        _ => None,
+        Prim::BoxFrame => v(0).map(|s| Aabb::symmetric(s.map(|x| x * 0.5))),
+        Prim::InfiniteCylinder => None,
+        // The arc lies in the xy plane; the whole ring's box is enough.
+        Prim::CappedTorus => match (f(0), f(1)) {
+            (Some(big), Some(r)) => Some(Aabb::symmetric([big + r, big + r, r])),
+            _ => None,
+        },
+        Prim::Cone => match (f(0), f(1)) {
+            (Some(r), Some(h)) => Some(Aabb {
+                lo: [-r, h.min(0.0), -r],
+                hi: [r, h.max(0.0), r],
+            }),
+            _ => None,
+        },
+        Prim::CappedCone => match (f(0), f(1), f(2)) {
+            (Some(h), Some(r1), Some(r2)) => {
+                let r = r1.max(r2);
+                Some(Aabb::symmetric([r, h * 0.5, r]))
+            }
+            _ => None,
+        },
+        Prim::Ellipsoid => v(0).map(|r| Aabb::symmetric(r.map(f64::abs))),
+        Prim::Octahedron => f(0).map(|s| Aabb::symmetric([s * 0.5; 3])),
+        // Inradius r: the hexagon's corners lie at 2r / sqrt(3), the triangle's at 2r.
+        Prim::HexPrism => match (f(0), f(1)) {
+            (Some(r), Some(h)) => {
+                let c = r * 2.0 / 3f64.sqrt();
+                Some(Aabb::symmetric([c, c, h * 0.5]))
+            }
+            _ => None,
+        },
+        Prim::TriPrism => match (f(0), f(1)) {
+            (Some(r), Some(h)) => Some(Aabb::symmetric([2.0 * r, 2.0 * r, h * 0.5])),
+            _ => None,
+        },
+        Prim::Pyramid => f(0).map(|h| Aabb {
+            lo: [-0.5, h.min(0.0), -0.5],
+            hi: [0.5, h.max(0.0), 0.5],
+        }),
+        // The estimator is evaluated within 1.25 times its bounding radius (argument 2).
+        Prim::Mandelbulb => f(2).map(|r| Aabb::symmetric([1.25 * r; 3])),
+        Prim::Menger | Prim::Sierpinski => Some(Aabb::symmetric([0.5; 3])),
     };
     b.unwrap_or(Aabb::EVERYTHING)
 }

@@ -622,7 +622,7 @@ impl Analyser<'_> {
                 root: c,
                 ..self.scene.clone()
             };
-            crate::to_ssa::functions(&sub)
+            crate::to_ssa::functions(&sub, false)
         });
         let f = |p: [f64; 3]| -> Vec<f64> {
             let args = if params == 1 {

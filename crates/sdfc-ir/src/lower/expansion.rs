@@ -10,36 +10,45 @@ use sdfc_syntax::diag::Diagnostic;
 use sdfc_syntax::span::Span;
 
 /// For every shape node, the number of shape nodes of its unfolded tree, saturating at
-/// `u64::MAX`. Iterative (a post-order walk with an explicit stack), so deep scenes cannot
-/// overflow the stack, and it does not rely on the order of `shapes`.
+/// `u64::MAX`.
 pub fn instance_counts(shapes: &[ShapeNode]) -> Vec<u64> {
-    const UNKNOWN: u64 = 0;
-    let mut count = vec![UNKNOWN; shapes.len()];
+    let mut count = vec![0u64; shapes.len()];
+    for i in post_order(shapes) {
+        let below = children(&shapes[i].kind).iter().fold(0u64, |acc, c| {
+            acc.saturating_add(count.get(c.index()).copied().unwrap_or(1))
+        });
+        count[i] = below.saturating_add(1);
+    }
+    count
+}
+
+/// Every shape index once, each after its children. Iterative (an explicit stack), so deep
+/// scenes cannot overflow the stack, and independent of the order of `shapes`.
+pub fn post_order(shapes: &[ShapeNode]) -> Vec<usize> {
+    let mut done = vec![false; shapes.len()];
+    let mut order = Vec::with_capacity(shapes.len());
     for start in 0..shapes.len() {
         let mut stack = vec![start];
         while let Some(&i) = stack.last() {
-            if count[i] != UNKNOWN {
+            if done[i] {
                 stack.pop();
                 continue;
             }
-            let children = children(&shapes[i].kind);
-            let pending: Vec<usize> = children
+            let pending: Vec<usize> = children(&shapes[i].kind)
                 .iter()
                 .map(|c| c.index())
-                .filter(|&c| c < shapes.len() && count[c] == UNKNOWN)
+                .filter(|&c| c < shapes.len() && !done[c])
                 .collect();
             if pending.is_empty() {
-                let below = children.iter().fold(0u64, |acc, c| {
-                    acc.saturating_add(count.get(c.index()).copied().unwrap_or(1))
-                });
-                count[i] = below.saturating_add(1);
+                done[i] = true;
+                order.push(i);
                 stack.pop();
             } else {
                 stack.extend(pending);
             }
         }
     }
-    count
+    order
 }
 
 /// The direct children of a shape node.

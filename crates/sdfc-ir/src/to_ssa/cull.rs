@@ -1,0 +1,122 @@
+//! Culled unions: a hard union of many bounded children becomes a hierarchy of group
+//! functions, each called only where its bounding box is nearer than the nearest distance
+//! found so far. A step near one object then evaluates that object's branch and a few box
+//! tests instead of every child.
+//!
+//! Why the value does not change: a child's box has a signed distance no greater than the
+//! child's own (every point of the child lies in its box, and the child's distance is exact or
+//! a bound; `analysis::bounds`). Where `box(p) >= best`, the child's distance is `>= best` too,
+//! so `min(best, child)` is `best` whether or not the child is evaluated; the skipped call
+//! reports `box(p)` as its distance, which the `min` also discards. Hard unions pick the
+//! nearer material with a strict `<`, so a skipped child never wins the material either.
+
+use super::{Builder, Mat};
+use crate::analysis::bounds::Aabb;
+use crate::graph::NodeId;
+use crate::ops::{Builtin, Helper, Op};
+use crate::shape::{CombineOp, ShapeId};
+
+/// Unions of fewer bounded children than this are evaluated plainly: their box tests would
+/// cost about as much as the children.
+pub const CULL_MIN: usize = 16;
+
+impl Builder<'_> {
+    /// The culled form of `union(children)` at `p`, or `None` where culling does not apply
+    /// (too few bounded children).
+    pub(super) fn culled_union(
+        &mut self,
+        children: &[ShapeId],
+        p: NodeId,
+        mat: u32,
+    ) -> Option<(NodeId, Option<Mat>)> {
+        let (mut bounded, free): (Vec<(ShapeId, Aabb)>, Vec<ShapeId>) = {
+            let mut b = Vec::new();
+            let mut f = Vec::new();
+            for &c in children {
+                match self.info.get(c.index()).map(|i| i.bounds) {
+                    Some(bx) if bx.is_bounded() => b.push((c, bx)),
+                    _ => f.push(c),
+                }
+            }
+            (b, f)
+        };
+        if bounded.len() < CULL_MIN {
+            return None;
+        }
+        // Unbounded children (a ground plane, say) first, unguarded: they set the first
+        // `best`, which the boxes are tested against.
+        let mut acc: Option<(NodeId, Option<Mat>)> = match free.len() {
+            0 => None,
+            // Through the plain path, which splits many of them into groups.
+            _ => Some(self.combine(CombineOp::Union, None, &free, p, mat)),
+        };
+        // Two halves by the median along the longest axis of the children's centres.
+        sort_along_longest_axis(&mut bounded);
+        let (lo, hi) = bounded.split_at(bounded.len() / 2);
+        for half in [lo, hi] {
+            let ids: Vec<ShapeId> = half.iter().map(|(c, _)| *c).collect();
+            let bx = half
+                .iter()
+                .map(|(_, b)| *b)
+                .reduce(|a, b| a.hull(&b))
+                .unwrap_or(half[0].1);
+            let guard = acc.map(|(best, _)| (self.box_distance(p, &bx), best));
+            let part = self.group_call(&ids, p, mat, guard);
+            acc = Some(self.union_with(acc, part));
+        }
+        acc
+    }
+
+    /// `min` of the running union and one more part, with the nearer material.
+    fn union_with(
+        &mut self,
+        acc: Option<(NodeId, Option<Mat>)>,
+        part: (NodeId, Option<Mat>),
+    ) -> (NodeId, Option<Mat>) {
+        let Some((d, m)) = acc else { return part };
+        let (e, me) = part;
+        let nd = self.g.builtin(Builtin::Min, &[d, e]);
+        let nm = match (m, me) {
+            (Some(ma), Some(mb)) => Some(self.blend(CombineOp::Union, d, e, ma, mb, None)),
+            _ => m,
+        };
+        (self.hinted(nd, "d"), nm)
+    }
+
+    /// The signed distance from `p` to the box, widened by a sliver for the f32 rounding of
+    /// the children's own arithmetic.
+    fn box_distance(&mut self, p: NodeId, bx: &Aabb) -> NodeId {
+        let c = [0, 1, 2].map(|i| 0.5 * (bx.lo[i] + bx.hi[i]));
+        let h = [0, 1, 2].map(|i| 0.5 * (bx.hi[i] - bx.lo[i]));
+        let size = c.iter().chain(&h).fold(1.0f64, |m, x| m.max(x.abs()));
+        let slack = 1e-5 * size;
+        let c = self.g.konst(crate::value::Value::V3(c.map(|x| x as f32)));
+        let h = self
+            .g
+            .konst(crate::value::Value::V3(h.map(|x| (x + slack) as f32)));
+        let q = self.op(Op::Sub, &[p, c]);
+        let q = self.hinted(q, "q");
+        let b = self.op(Op::Helper(Helper::SdBox), &[q, h]);
+        self.hinted(b, "bound")
+    }
+}
+
+/// Sorts children by their box centres along the axis where the centres spread most.
+fn sort_along_longest_axis(v: &mut [(ShapeId, Aabb)]) {
+    let centre = |b: &Aabb, i: usize| 0.5 * (b.lo[i] + b.hi[i]);
+    let axis = (0..3)
+        .max_by(|&a, &b| {
+            let spread = |i: usize| {
+                let (lo, hi) = v
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                        (l.min(centre(&x.1, i)), h.max(centre(&x.1, i)))
+                    });
+                hi - lo
+            };
+            spread(a).total_cmp(&spread(b))
+        })
+        .unwrap_or(0);
+    // Stable: equal centres keep the scene's order, so output stays deterministic.
+    v.sort_by(|a, b| centre(&a.1, axis).total_cmp(&centre(&b.1, axis)));
+}

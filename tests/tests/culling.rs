@@ -1,0 +1,153 @@
+//! Culled unions (`crates/sdfc-ir/src/to_ssa/cull.rs`): the bounding-box early-outs change
+//! how much is evaluated, not the field. With exact shapes, the distance and the material of
+//! the culled program equal those of the plain one at thousands of points (to f64 rounding,
+//! 1e-12). With bound-only shapes (ellipsoid, twist, smooth blends, mirrors), whose values
+//! lie below their true distance, a skipped child may leave the union's value higher than the
+//! plain one, but never above the true distance (the skipped child's box is farther); the
+//! test asserts `plain <= culled` with the same sign there.
+
+use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::ops::Op;
+use sdfc_ir::Program;
+use sdfc_tests::grid_scene;
+use sdfc_wgsl::{compile, Compiled, Options};
+
+fn both(src: &str) -> (Compiled, Compiled) {
+    let culled = compile(src, &Options::default()).expect("culled compiles");
+    let plain = compile(
+        src,
+        &Options {
+            no_cull: true,
+            ..Options::default()
+        },
+    )
+    .expect("plain compiles");
+    (culled, plain)
+}
+
+fn guarded_calls(p: &Program) -> usize {
+    std::iter::once(&p.distance)
+        .chain(&p.groups)
+        .map(|f| {
+            f.graph
+                .nodes()
+                .filter(|(_, n)| matches!(n.op, Op::Call { result: 0, .. }) && n.args().len() == 3)
+                .count()
+        })
+        .sum()
+}
+
+/// SplitMix64: deterministic points without a dependency.
+fn points(seed: u64, n: usize, lo: [f64; 3], hi: [f64; 3]) -> Vec<[f64; 3]> {
+    let mut s = seed;
+    let mut next = move || {
+        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| [0, 1, 2].map(|i| lo[i] + (hi[i] - lo[i]) * next()))
+        .collect()
+}
+
+fn same_field(name: &str, src: &str, lo: [f64; 3], hi: [f64; 3]) {
+    compare(name, src, lo, hi, true)
+}
+
+fn compare(name: &str, src: &str, lo: [f64; 3], hi: [f64; 3], exact: bool) {
+    let (culled, plain) = both(src);
+    let (c, p) = (culled.program(), plain.program());
+    assert!(
+        guarded_calls(c) > 0,
+        "{name}: no guarded call in the culled program"
+    );
+    assert_eq!(guarded_calls(p), 0, "{name}: guarded calls without culling");
+    for pt in points(7, 2000, lo, hi) {
+        let at = Inputs::at(pt);
+        let dc = eval_func(&c.distance, &c.groups, &at)[0].scalar().unwrap();
+        let dp = eval_func(&p.distance, &p.groups, &at)[0].scalar().unwrap();
+        let tol = 1e-12 * dp.abs().max(1.0);
+        if !exact {
+            assert!(
+                dc >= dp - tol && (dc > 0.0) == (dp > 0.0),
+                "{name}: distance at {pt:?}: culled {dc}, plain {dp}"
+            );
+            continue;
+        }
+        assert!(
+            (dc - dp).abs() <= tol,
+            "{name}: distance at {pt:?}: culled {dc}, plain {dp}"
+        );
+        let mc = eval_func(&c.material, &c.groups, &at);
+        let mp = eval_func(&p.material, &p.groups, &at);
+        assert_eq!(mc, mp, "{name}: material at {pt:?}");
+    }
+}
+
+#[test]
+fn grid_of_300_shapes_culled_equals_plain() {
+    same_field(
+        "grid_scene(300)",
+        &grid_scene(300),
+        [-12.0, -2.0, -14.0],
+        [12.0, 14.0, 4.0],
+    );
+}
+
+/// A ground plane and infinite repetition (unbounded, never skipped) among bounded shapes.
+fn mixed_scene(kinds: &[&str]) -> String {
+    let mut s = String::from(
+        "material red { color: [1, 0, 0] }\nscene = union(\n  plane([0, 1, 0], -1),\n",
+    );
+    for i in 0..40 {
+        let (x, z) = ((i % 8) as f64 * 1.3 - 5.0, (i / 8) as f64 * -1.4);
+        let mat = if i % 3 == 0 { ".material(red)" } else { "" };
+        s += &format!(
+            "  {}{mat}.translate([{x}, {}, {z}]),\n",
+            kinds[i % kinds.len()],
+            (i % 4) as f64 * 0.3
+        );
+    }
+    s + "  sphere(0.2).repeat([0, 0, 3]).translate([0, 3, 0])\n);\n"
+}
+
+#[test]
+fn exact_shapes_with_a_ground_plane_culled_equals_plain() {
+    let kinds = [
+        "sphere(0.4)",
+        "box([0.6, 0.3, 0.5]).rotate_y(20deg)",
+        "torus(0.4, 0.1).rotate_x(90deg)",
+        "capsule([0, 0, 0], [0.3, 0.5, 0], 0.1)",
+        "cone(0.3, 0.6)",
+        "octahedron(0.7).scale(0.8)",
+        "box_frame([0.6, 0.6, 0.6], 0.05)",
+        "hex_prism(0.3, 0.5).round(0.05)",
+    ];
+    same_field(
+        "exact kinds",
+        &mixed_scene(&kinds),
+        [-7.0, -2.0, -8.0],
+        [7.0, 4.0, 2.0],
+    );
+}
+
+#[test]
+fn bound_shapes_culled_stays_between_plain_and_true() {
+    let kinds = [
+        "ellipsoid([0.4, 0.2, 0.3])",
+        "twist(box([0.2, 0.6, 0.2]), 1)",
+        "union(sphere(0.2), box(0.3).translate([0.3, 0, 0]), smooth: 0.1)",
+        "box_frame([0.6, 0.6, 0.6], 0.05).translate([0.5, 0, 0]).mirror_x()",
+        "stretch(sphere(0.3), [1, 2, 1])",
+        "menger(iterations: 2)",
+    ];
+    compare(
+        "bound kinds",
+        &mixed_scene(&kinds),
+        [-7.0, -2.0, -8.0],
+        [7.0, 4.0, 2.0],
+        false,
+    );
+}

@@ -51,6 +51,21 @@ pub struct Metrics {
     pub negative_depth: usize,
     pub mean_steps_gpu: f64,
     pub mean_steps_reference: f64,
+    /// The pixels with the largest relative depth errors, worst first (at most 5).
+    pub worst_depth: Vec<PixelError>,
+    /// Hit/miss disagreements away from silhouettes (at most 5).
+    pub interior_mismatches: Vec<PixelError>,
+}
+
+/// One pixel's GPU and reference values, to find where an error comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelError {
+    pub x: u32,
+    pub y: u32,
+    pub gpu_depth: f32,
+    pub reference_depth: f64,
+    /// The angle between the normals, degrees (0 unless both hit).
+    pub normal_deg: f64,
 }
 
 /// The value at fraction `q` of sorted data (nearest rank); 0 for no data.
@@ -99,6 +114,8 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
         && reference.pixels.len() == n;
     let n = if same { n } else { 0 };
     let mut depth_err = Vec::new();
+    let mut worst: Vec<(f64, PixelError)> = Vec::new();
+    let mut interior_list = Vec::new();
     let mut normal_err = Vec::new();
     let (mut interior, mut silhouette, mut nonfinite, mut negative) = (0, 0, 0, 0);
     let (mut abs_sum, mut sq_sum) = (0.0, 0.0);
@@ -118,16 +135,29 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
             negative += 1;
         }
         let gpu_hit = d.is_finite();
+        let mut pe = PixelError {
+            x,
+            y,
+            gpu_depth: d,
+            reference_depth: r.depth,
+            normal_deg: 0.0,
+        };
         if gpu_hit != r.hit {
             if is_silhouette(reference, x, y) {
                 silhouette += 1;
             } else {
                 interior += 1;
+                if interior_list.len() < 5 {
+                    interior_list.push(pe);
+                }
             }
         } else if gpu_hit {
             let e = (d as f64 - r.depth).abs();
-            depth_err.push(if r.depth > 0.0 { e / r.depth } else { e });
-            normal_err.push(angle_deg(nrm.map(|c| c as f64), r.normal));
+            let e = if r.depth > 0.0 { e / r.depth } else { e };
+            depth_err.push(e);
+            pe.normal_deg = angle_deg(nrm.map(|c| c as f64), r.normal);
+            normal_err.push(pe.normal_deg);
+            worst.push((e, pe));
         }
         for c in 0..3 {
             let e = gpu.rgba[4 * i + c] as f64 - r.rgba[c] as f64;
@@ -137,6 +167,8 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
         steps_gpu += if s.is_finite() { s as f64 } else { 0.0 };
         steps_ref += r.steps as f64;
     }
+    worst.sort_by(|a, b| b.0.total_cmp(&a.0));
+    worst.truncate(5);
     let nan_last = |v: &mut Vec<f64>| v.sort_by(|a, b| a.total_cmp(b));
     nan_last(&mut depth_err);
     nan_last(&mut normal_err);
@@ -164,6 +196,8 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
         negative_depth: negative,
         mean_steps_gpu: steps_gpu / n.max(1) as f64,
         mean_steps_reference: steps_ref / n.max(1) as f64,
+        worst_depth: worst.into_iter().map(|w| w.1).collect(),
+        interior_mismatches: interior_list,
     }
 }
 

@@ -37,11 +37,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// The finite-difference step for normals: about the surface threshold, and never below what
-// f32 can resolve at this distance from the origin.
+// The finite-difference step for normals: a small fraction of the surface threshold (so a
+// crease or a seam blends only the normals of points that close to it), and never below what
+// f32 can resolve at this distance from the origin. Against the f64 reference (64x48 stress
+// scenes) 0.5 of the threshold gave a median error of 0.5 degree on spheres and 48 degrees at
+// the 99th percentile on boxes; 0.002 gives 0.01 and 0.03.
 fn normal_step(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
     let scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
-    return max(0.5 * surface_epsilon(t, pixel), 4e-6 * scale);
+    return max(0.002 * surface_epsilon(t, pixel), 2e-5 * scale);
 }
 
 // How far a secondary ray (shadow, reflection) starts off the surface: beyond the surface

@@ -108,6 +108,7 @@ fn plain_table(name: &str, m: &Metrics, device: &str) -> String {
     );
     for (what, list) in [
         ("largest depth errors", &m.worst_depth),
+        ("largest normal errors", &m.worst_normal),
         ("hit/miss mismatches away from silhouettes", &m.interior_mismatches),
     ] {
         if list.is_empty() {

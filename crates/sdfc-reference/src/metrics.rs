@@ -53,6 +53,8 @@ pub struct Metrics {
     pub mean_steps_reference: f64,
     /// The pixels with the largest relative depth errors, worst first (at most 5).
     pub worst_depth: Vec<PixelError>,
+    /// The pixels with the largest normal errors, worst first (at most 5).
+    pub worst_normal: Vec<PixelError>,
     /// Hit/miss disagreements away from silhouettes (at most 5).
     pub interior_mismatches: Vec<PixelError>,
 }
@@ -167,6 +169,9 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
         steps_gpu += if s.is_finite() { s as f64 } else { 0.0 };
         steps_ref += r.steps as f64;
     }
+    let mut worst_normal: Vec<PixelError> = worst.iter().map(|w| w.1).collect();
+    worst_normal.sort_by(|a, b| b.normal_deg.total_cmp(&a.normal_deg));
+    worst_normal.truncate(5);
     worst.sort_by(|a, b| b.0.total_cmp(&a.0));
     worst.truncate(5);
     let nan_last = |v: &mut Vec<f64>| v.sort_by(|a, b| a.total_cmp(b));
@@ -197,6 +202,7 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
         mean_steps_gpu: steps_gpu / n.max(1) as f64,
         mean_steps_reference: steps_ref / n.max(1) as f64,
         worst_depth: worst.into_iter().map(|w| w.1).collect(),
+        worst_normal,
         interior_mismatches: interior_list,
     }
 }

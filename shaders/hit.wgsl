@@ -12,9 +12,10 @@ struct Hit {
 // converges fast where the ray meets the surface at a grazing angle. Once a sample lies behind
 // the surface (d <= 0) the surface is bracketed and Illinois-style false position narrows the
 // bracket. If the distance grows again while still positive, the ray passes the surface by
-// within the threshold without meeting it: that is no hit, and marching goes on from there
-// (`hit` false). A ray that starts inside a shape (d0 <= 0 at t0 = 0) hits at t = 0; t never
-// goes behind the ray's origin.
+// within the threshold without meeting it: that is no hit, and marching goes on (`hit`
+// false) from the furthest t up to which the samples' unbounding spheres leave the ray free
+// (a secant step may have jumped past a surface that the march must still find). A ray that
+// starts inside a shape (d0 <= 0 at t0 = 0) hits at t = 0; t never goes behind its origin.
 fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
     var steps = steps0;
     if d0 <= 0.0 && t0 <= 0.0 {
@@ -32,6 +33,7 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
     var d = d0;
     var tp = t0;
     var dp = d0;
+    var reach = t0 + d0;
     for (var i = 0u; i < 12u; i = i + 1u) {
         if abs(d) <= 1e-7 * max(t, 1.0) {
             break;
@@ -47,7 +49,7 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
             let slope = d - dp;
             if slope >= 0.0 {
                 // Closest approach passed without a crossing: no surface here.
-                return Hit(t, steps, false);
+                return Hit(reach, steps, false);
             }
             let secant = t - d * (t - tp) / slope;
             if secant > next {
@@ -60,6 +62,9 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
         d = scene_distance(ro + rd * t);
         steps = steps + 1u;
         if d > 0.0 {
+            if t - d <= reach {
+                reach = max(reach, t + d);
+            }
             if !bracketed || t > ta {
                 if side == 1 {
                     db = 0.5 * db;

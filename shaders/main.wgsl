@@ -30,7 +30,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var aov = vec4<f32>(0.0, 0.0, 0.0, -1.0);
         if hit.hit {
             let p = CAMERA_POSITION + rd * hit.t;
-            aov = vec4<f32>(surface_normal(p, hit.t, pixel), hit.t);
+            aov = vec4<f32>(surface_normal(p, rd, hit.t, pixel), hit.t);
         }
         aov_out[2u * index] = aov;
         aov_out[2u * index + 1u] = vec4<f32>(f32(hit.steps), 0.0, 0.0, 0.0);
@@ -50,10 +50,16 @@ fn normal_step(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
 // The normal at a hit p. The step is rounded up to a power of two and p to a multiple of it,
 // so that every sample point p + k h is exact in f32: the samples are then as far apart as
 // the formula says, and only the distance function's own rounding remains. p moves by at most
-// half the step, far below the surface threshold.
-fn surface_normal(p: vec3<f32>, t: f32, pixel: f32) -> vec3<f32> {
+// half the step, far below the surface threshold. A normal facing away from the ray `rd`
+// comes from a surface of no thickness (the distance is |y| across it, so the differences
+// cancel): it is taken again a few steps back along the ray, on the side the ray comes from.
+fn surface_normal(p: vec3<f32>, rd: vec3<f32>, t: f32, pixel: f32) -> vec3<f32> {
     let h = exp2(ceil(log2(normal_step(p, t, pixel))));
-    return scene_normal(round(p / h) * h, h);
+    let n = scene_normal(round(p / h) * h, h);
+    if dot(n, rd) <= 0.0 {
+        return n;
+    }
+    return scene_normal(round((p - 4.0 * h * rd) / h) * h, h);
 }
 
 // How far a secondary ray (shadow, reflection) starts off the surface: beyond the surface

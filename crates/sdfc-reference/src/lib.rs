@@ -6,7 +6,7 @@
 //! evaluates the scene functions in f64 with the IR evaluator and marches far more precisely:
 //! sphere tracing down to a threshold of 1e-9 relative to t, then bisection of the bracketed
 //! surface to about 1e-13 relative, normals from central differences with a step of 1e-8
-//! times the point's magnitude. Rows render on all cores with `std::thread::scope`.
+//! times the point's magnitude (on the ray's side of a surface of zero thickness). Rows render on all cores with `std::thread::scope`.
 //!
 //! No I/O, no GPU: [`metrics`] takes plain slices, so callers glue it to any renderer.
 
@@ -148,7 +148,10 @@ fn pixel(shader: &Shader, x: u32, y: u32, w: u32, h: u32) -> Pixel {
     let rd = cam.ray(x as f64 + 0.5, y as f64 + 0.5, fw, fh);
     let hit = march(shader.scene, cam.position, rd, max_distance);
     let (depth, nrm) = if hit.hit {
-        (hit.t, normal(shader.scene, add(cam.position, mul(rd, hit.t))))
+        (
+            hit.t,
+            normal(shader.scene, add(cam.position, mul(rd, hit.t)), rd),
+        )
     } else {
         (f64::INFINITY, [0.0; 3])
     };

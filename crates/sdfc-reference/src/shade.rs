@@ -12,10 +12,21 @@ use sdfc_ir::scene::{LightKind, RenderSettings, Scene, Shadows};
 /// f64 rounding there, far below any feature the GPU can resolve.
 const OFFSET: f64 = 1e-7;
 
-/// The unit gradient of the distance at `p` by central differences with a step far below
-/// any feature and far above f64 rounding at `p`'s magnitude.
-pub fn normal(scene: &SceneEval, p: V3) -> V3 {
+/// The unit gradient of the distance at `p`, seen from a ray along `rd`: central differences
+/// with a step far below any feature and far above f64 rounding at `p`'s magnitude. Where
+/// they cancel (a surface of zero thickness: the distance is |y| across it) the gradient is
+/// taken a little way back along the ray, on the side the ray comes from.
+pub fn normal(scene: &SceneEval, p: V3, rd: V3) -> V3 {
     let h = 1e-8 * scale(p);
+    let g = gradient(scene, p, h);
+    if length(g) >= h {
+        return safe_normalize(g);
+    }
+    safe_normalize(gradient(scene, sub(p, mul(rd, 1e3 * h)), h))
+}
+
+/// Twice h times the central-difference gradient at `p`.
+fn gradient(scene: &SceneEval, p: V3, h: f64) -> V3 {
     let mut g = [0.0; 3];
     for (k, gk) in g.iter_mut().enumerate() {
         let mut a = p;
@@ -24,7 +35,7 @@ pub fn normal(scene: &SceneEval, p: V3) -> V3 {
         b[k] -= h;
         *gk = scene.distance(a) - scene.distance(b);
     }
-    safe_normalize(g)
+    g
 }
 
 /// Shading of a whole scene: settings, lights, and the scene functions.
@@ -173,7 +184,7 @@ impl Shader<'_> {
                 return add(color, mul(background, weight));
             }
             let p = add(origin, mul(dir, hit.t));
-            let n = normal(self.scene, p);
+            let n = normal(self.scene, p, dir);
             let m = self.scene.material(p);
             let local = self.finish(self.shade(p, n, dir, &m), hit.t);
             let r = m.albedo[3].clamp(0.0, 1.0);

@@ -5,14 +5,17 @@
 
 use sdfc_wgsl::{compile, Options};
 
-const FAR: &str = "camera { position: [100000.5, 100001, 100006], target: [100000, 100000, 100000] }\n\
+const FAR: &str =
+    "camera { position: [100000.5, 100001, 100006], target: [100000, 100000, 100000] }\n\
     light point { position: [100004, 100005, 100003], color: [1, 1, 1], intensity: 1 }\n\
     scene = union(sphere(1), box(1).translate([2, 0, 0])).translate([100000, 100000, 100000]);\n";
 
 #[test]
 fn a_far_camera_marches_in_camera_relative_coordinates() {
     let c = compile(FAR, &Options::default()).unwrap_or_else(|e| panic!("{e:?}"));
-    assert!(c.wgsl.contains("const CAMERA_POSITION: vec3<f32> = vec3<f32>(0.0);"));
+    assert!(c
+        .wgsl
+        .contains("const CAMERA_POSITION: vec3<f32> = vec3<f32>(0.0);"));
     // The sphere's centre relative to the camera, exactly: (-0.5, -1, -6).
     assert!(
         c.wgsl.contains("p - vec3<f32>(-0.5, -1.0, -6.0)"),
@@ -20,7 +23,11 @@ fn a_far_camera_marches_in_camera_relative_coordinates() {
         c.wgsl
     );
     // The point light relative to the camera.
-    assert!(c.wgsl.contains("vec3<f32>(3.5, 4.0, -3.0) - p"), "{}", c.wgsl);
+    assert!(
+        c.wgsl.contains("vec3<f32>(3.5, 4.0, -3.0) - p"),
+        "{}",
+        c.wgsl
+    );
     let rel = c.program().relative.as_ref().expect("relative functions");
     assert_eq!(rel.origin, [100000.5, 100001.0, 100006.0]);
     // Same distances at corresponding points, world and relative (f64 evaluator).
@@ -58,6 +65,8 @@ fn a_near_camera_keeps_world_coordinates() {
     )
     .unwrap_or_else(|e| panic!("{e:?}"));
     assert!(c.program().relative.is_none());
-    assert!(c.wgsl.contains("const CAMERA_POSITION: vec3<f32> = vec3<f32>(0.0, 1.0, 6.0);"));
+    assert!(c
+        .wgsl
+        .contains("const CAMERA_POSITION: vec3<f32> = vec3<f32>(0.0, 1.0, 6.0);"));
     assert!(!c.wgsl.contains("Camera-relative"));
 }

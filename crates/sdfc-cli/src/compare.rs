@@ -109,12 +109,18 @@ fn plain_table(name: &str, m: &Metrics, device: &str) -> String {
     for (what, list) in [
         ("largest depth errors", &m.worst_depth),
         ("largest normal errors", &m.worst_normal),
-        ("hit/miss mismatches away from silhouettes", &m.interior_mismatches),
+        (
+            "hit/miss mismatches away from silhouettes",
+            &m.interior_mismatches,
+        ),
     ] {
         if list.is_empty() {
             continue;
         }
-        let _ = writeln!(s, "  {what} (x, y: GPU depth, reference depth, normal angle):");
+        let _ = writeln!(
+            s,
+            "  {what} (x, y: GPU depth, reference depth, normal angle):"
+        );
         for p in list {
             let _ = writeln!(
                 s,

@@ -497,9 +497,17 @@ fn render_compare_prints_the_error_table_without_an_output_file() {
     let t = TempDir::new("compare");
     let scene = t.write("s.sdf", SPHERE);
     let run = sdfc_in(&t.0, &["render", s(&scene), "--compare", "--size", "32x24"]).expect_code(0);
-    assert_eq!(table_value(&run.stdout, "pixels"), "768", "{}", run.describe());
+    assert_eq!(
+        table_value(&run.stdout, "pixels"),
+        "768",
+        "{}",
+        run.describe()
+    );
     assert_eq!(table_value(&run.stdout, "NaN/Inf pixels in the AOVs"), "0");
-    assert_eq!(table_value(&run.stdout, "hit/miss mismatches: interior"), "0");
+    assert_eq!(
+        table_value(&run.stdout, "hit/miss mismatches: interior"),
+        "0"
+    );
     // A unit sphere from the default camera: depth errors far below the surface threshold.
     let median: f64 = table_value(&run.stdout, "depth error, relative: median")
         .parse()
@@ -510,7 +518,14 @@ fn render_compare_prints_the_error_table_without_an_output_file() {
     let run = sdfc_in(
         &t.0,
         &[
-            "render", s(&scene), "--compare", "--markdown", "--size", "16x12", "-o", s(&out),
+            "render",
+            s(&scene),
+            "--compare",
+            "--markdown",
+            "--size",
+            "16x12",
+            "-o",
+            s(&out),
         ],
     )
     .expect_code(0);

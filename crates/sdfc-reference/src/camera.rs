@@ -34,7 +34,10 @@ impl Camera {
         let sy = 1.0 - 2.0 * y / h;
         let aspect = w / h;
         safe_normalize(add(
-            add(self.forward, mul(self.right, sx * self.tan_half_fov * aspect)),
+            add(
+                self.forward,
+                mul(self.right, sx * self.tan_half_fov * aspect),
+            ),
             mul(self.up, sy * self.tan_half_fov),
         ))
     }

@@ -123,7 +123,10 @@ pub fn compare(gpu: &GpuFrame, reference: &Image) -> Metrics {
     let (mut abs_sum, mut sq_sum) = (0.0, 0.0);
     let (mut steps_gpu, mut steps_ref) = (0.0, 0.0);
     for i in 0..n {
-        let (x, y) = ((i % gpu.width as usize) as u32, (i / gpu.width as usize) as u32);
+        let (x, y) = (
+            (i % gpu.width as usize) as u32,
+            (i / gpu.width as usize) as u32,
+        );
         let r = &reference.pixels[i];
         let (d, nrm, s) = (gpu.depth[i], gpu.normal[i], gpu.steps[i]);
         let bad = d.is_nan()

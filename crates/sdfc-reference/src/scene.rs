@@ -47,7 +47,11 @@ impl<'a> SceneEval<'a> {
 
     /// The signed distance at `p`.
     pub fn distance(&self, p: V3) -> f64 {
-        let r = eval_func(&self.program.distance, &self.program.groups, &self.inputs(p));
+        let r = eval_func(
+            &self.program.distance,
+            &self.program.groups,
+            &self.inputs(p),
+        );
         match r.first() {
             Some(Value::F(d)) => *d,
             _ => f64::NAN,
@@ -56,7 +60,11 @@ impl<'a> SceneEval<'a> {
 
     /// The material at `p`.
     pub fn material(&self, p: V3) -> Material {
-        let r = eval_func(&self.program.material, &self.program.groups, &self.inputs(p));
+        let r = eval_func(
+            &self.program.material,
+            &self.program.groups,
+            &self.inputs(p),
+        );
         let v4 = |v: Option<&Value<f64>>| match v {
             Some(Value::V4(a)) => *a,
             _ => [0.0; 4],

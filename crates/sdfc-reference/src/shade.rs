@@ -141,10 +141,7 @@ impl Shader<'_> {
                 0.0
             };
             let radiance = mul(f64s(light.color), light.intensity as f64);
-            let term = add(
-                mul(base, m.phong[1] * diffuse),
-                [m.phong[2] * specular; 3],
-            );
+            let term = add(mul(base, m.phong[1] * diffuse), [m.phong[2] * specular; 3]);
             let lit = if self.render().shadows == Shadows::None {
                 1.0
             } else {

@@ -53,8 +53,14 @@ fn check(name: &str, source: &str, exact: impl Fn(V3, V3) -> Option<(f64, V3)>) 
     }
     eprintln!("{name}: {hits} hits, worst relative depth error {worst_depth:e}, worst normal {worst_normal:e} deg");
     assert!(hits > (W * H / 8) as usize, "{name}: only {hits} hits");
-    assert!(worst_depth <= 1e-9, "{name}: relative depth error {worst_depth:e}");
-    assert!(worst_normal <= 1e-4, "{name}: normal error {worst_normal:e} deg");
+    assert!(
+        worst_depth <= 1e-9,
+        "{name}: relative depth error {worst_depth:e}"
+    );
+    assert!(
+        worst_normal <= 1e-4,
+        "{name}: normal error {worst_normal:e} deg"
+    );
     img
 }
 

@@ -120,8 +120,16 @@ fn offset(far: &str) {
     for (what, a, b) in [
         ("depth median", origin.depth_median, m.depth_median),
         ("depth 99.9th percentile", origin.depth_p999, m.depth_p999),
-        ("normal median", origin.normal_median_deg, m.normal_median_deg),
-        ("normal 99th percentile", origin.normal_p99_deg, m.normal_p99_deg),
+        (
+            "normal median",
+            origin.normal_median_deg,
+            m.normal_median_deg,
+        ),
+        (
+            "normal 99th percentile",
+            origin.normal_p99_deg,
+            m.normal_p99_deg,
+        ),
     ] {
         assert!(
             b <= 1.1 * a,
@@ -208,7 +216,8 @@ fn camera_up_parallel_to_forward_is_a_diagnostic() {
     let source = std::fs::read_to_string(&path).unwrap();
     match sdfc_wgsl::compile(&source, &Default::default()) {
         Err(sdfc_wgsl::Failure::Diagnostics(d)) => assert!(
-            d.iter().any(|d| d.is_error() && d.message.contains("parallel")),
+            d.iter()
+                .any(|d| d.is_error() && d.message.contains("parallel")),
             "{d:?}"
         ),
         Err(sdfc_wgsl::Failure::Internal { report, .. }) => panic!("internal error: {report}"),

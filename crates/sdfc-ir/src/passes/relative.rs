@@ -115,7 +115,11 @@ impl Shifter {
                 let o = Some(self.offset(None, None, span));
                 self.push(
                     ShapeKind::Map {
-                        map: PointMap::Affine { m: None, o, s: None },
+                        map: PointMap::Affine {
+                            m: None,
+                            o,
+                            s: None,
+                        },
                         child: id,
                     },
                     span,

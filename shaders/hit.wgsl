@@ -16,7 +16,10 @@ struct Hit {
 // false) from the furthest t up to which the samples' unbounding spheres leave the ray free
 // (a secant step may have jumped past a surface that the march must still find). A ray that
 // starts inside a shape (d0 <= 0 at t0 = 0) hits at t = 0; t never goes behind its origin.
-fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
+// A ray that comes within a hundredth of the threshold `eps` still hits, as before: in the
+// crevice where two surfaces touch, or where the distance's rounding noise is as large as
+// the threshold, passing by would crawl on in tiny steps until the step budget runs out.
+fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32) -> Hit {
     var steps = steps0;
     if d0 <= 0.0 && t0 <= 0.0 {
         return Hit(0.0, steps, true);
@@ -34,6 +37,7 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
     var tp = t0;
     var dp = d0;
     var reach = t0 + d0;
+    var dmin = d0;
     for (var i = 0u; i < 12u; i = i + 1u) {
         if abs(d) <= 1e-7 * max(t, 1.0) {
             break;
@@ -47,12 +51,12 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
             }
         } else if !bracketed && i > 0u {
             let slope = d - dp;
-            if slope >= 0.0 {
+            if slope >= 0.0 && dmin > 0.01 * eps {
                 // Closest approach passed without a crossing: no surface here.
                 return Hit(reach, steps, false);
             }
             let secant = t - d * (t - tp) / slope;
-            if secant > next {
+            if slope < 0.0 && secant > next {
                 next = min(secant, t + 256.0 * d);
             }
         }
@@ -65,6 +69,7 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
             if t - d <= reach {
                 reach = max(reach, t + d);
             }
+            dmin = min(dmin, d);
             if !bracketed || t > ta {
                 if side == 1 {
                     db = 0.5 * db;

@@ -20,7 +20,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             omega = 1.0;
         } else {
             if d < surface_epsilon(t, pixel) {
-                let refined = refine(ro, rd, t, d, steps);
+                let refined = refine(ro, rd, t, d, steps, surface_epsilon(t, pixel));
                 if refined.hit {
                     return refined;
                 }

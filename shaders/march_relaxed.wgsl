@@ -22,7 +22,8 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             if d < surface_epsilon(t, pixel) {
                 let refined = refine(ro, rd, t, d, steps, surface_epsilon(t, pixel));
                 if refined.hit {
-                    return refined;
+                    // A surface refined to beyond MAX_DISTANCE is out of range: a miss.
+                    return Hit(refined.t, refined.steps, refined.t <= MAX_DISTANCE);
                 }
                 // The ray passed the surface by: march on plainly from where refinement
                 // left it.

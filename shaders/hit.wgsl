@@ -5,38 +5,94 @@ struct Hit {
     hit: bool,
 }
 
-// Refines a hit found within the surface threshold with up to four secant steps on the
-// distance along the ray. Each step is kept on the far side of the plain step t + d: a
-// distance bound never overestimates, so the surface along the ray is at least that far
-// (behind, when d < 0). A plain step alone converges slowly where the ray meets the surface
-// at a grazing angle; the secant converges fast there too.
-fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32) -> Hit {
+// Refines a hit found within the surface threshold (distance d0 at t0) to the surface itself.
+// In front of the surface (d > 0) each step goes at least the plain step t + d (a distance
+// bound never overestimates, so the surface is at least that far) and follows the secant
+// through the last two samples where it goes further, at most 256 plain steps: the secant
+// converges fast where the ray meets the surface at a grazing angle. Once a sample lies behind
+// the surface (d <= 0) the surface is bracketed and Illinois-style false position narrows the
+// bracket. If the distance grows again while still positive, the ray passes the surface by
+// within the threshold without meeting it: that is no hit, and marching goes on (`hit`
+// false) from the furthest t up to which the samples' unbounding spheres leave the ray free
+// (a secant step may have jumped past a surface that the march must still find). A ray that
+// starts inside a shape (d0 <= 0 at t0 = 0) hits at t = 0; t never goes behind its origin.
+// A ray that comes within a hundredth of the threshold `eps` still hits, as before: in the
+// crevice where two surfaces touch, or where the distance's rounding noise is as large as
+// the threshold, passing by would crawl on in tiny steps until the step budget runs out.
+fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32) -> Hit {
+    var steps = steps0;
+    if d0 <= 0.0 && t0 <= 0.0 {
+        return Hit(0.0, steps, true);
+    }
+    // The nearest sample known to be in front (ta, da > 0) and, once bracketed, the nearest
+    // sample behind (tb, db <= 0).
     var ta = t0;
     var da = d0;
-    var t = t0 + d0;
-    var d = scene_distance(ro + rd * t);
-    var steps = steps0 + 1u;
-    for (var i = 0u; i < 4u; i = i + 1u) {
+    var tb = t0;
+    var db = d0;
+    var bracketed = d0 <= 0.0;
+    var side = 0;
+    var t = t0;
+    var d = d0;
+    var tp = t0;
+    var dp = d0;
+    var reach = t0 + d0;
+    var dmin = d0;
+    for (var i = 0u; i < 12u; i = i + 1u) {
         if abs(d) <= 1e-7 * max(t, 1.0) {
             break;
         }
         var next = t + d;
-        let slope = d - da;
-        if abs(slope) > 1e-30 {
-            let secant = t - d * (t - ta) / slope;
-            // On the same side as the plain step, and no closer than it.
-            // Beyond the plain step (the surface is at least that far), at most 16 times it.
-            if d > 0.0 && secant > next {
-                next = min(secant, t + 16.0 * d);
-            } else if d < 0.0 && secant < next {
-                next = max(secant, t + 16.0 * d);
+        if bracketed && da > 0.0 && tb > ta {
+            // False position inside the bracket; the midpoint if it degenerates.
+            next = tb - db * (tb - ta) / (db - da);
+            if !(next > ta && next < tb) {
+                next = 0.5 * (ta + tb);
+            }
+        } else if !bracketed && i > 0u {
+            let slope = d - dp;
+            if slope >= 0.0 && dmin > 0.01 * eps {
+                // Closest approach passed without a crossing: no surface here.
+                return Hit(reach, steps, false);
+            }
+            let secant = t - d * (t - tp) / slope;
+            if slope < 0.0 && secant > next {
+                next = min(secant, t + 256.0 * d);
             }
         }
-        ta = t;
-        da = d;
-        t = next;
+        tp = t;
+        dp = d;
+        t = max(next, 0.0);
         d = scene_distance(ro + rd * t);
         steps = steps + 1u;
+        if d > 0.0 {
+            if t - d <= reach {
+                reach = max(reach, t + d);
+            }
+            dmin = min(dmin, d);
+            if !bracketed || t > ta {
+                if side == 1 {
+                    db = 0.5 * db;
+                }
+                ta = t;
+                da = d;
+                side = 1;
+            }
+        } else {
+            if !bracketed || t < tb {
+                if side == -1 {
+                    da = 0.5 * da;
+                }
+                tb = t;
+                db = d;
+                side = -1;
+            }
+            if !bracketed && d0 > 0.0 {
+                ta = tp;
+                da = dp;
+            }
+            bracketed = true;
+        }
     }
     return Hit(t, steps, true);
 }

@@ -30,23 +30,45 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var aov = vec4<f32>(0.0, 0.0, 0.0, -1.0);
         if hit.hit {
             let p = CAMERA_POSITION + rd * hit.t;
-            aov = vec4<f32>(scene_normal(p, normal_step(p, hit.t, pixel)), hit.t);
+            aov = vec4<f32>(surface_normal(p, rd, hit.t, pixel), hit.t);
         }
         aov_out[2u * index] = aov;
         aov_out[2u * index + 1u] = vec4<f32>(f32(hit.steps), 0.0, 0.0, 0.0);
     }
 }
 
-// The finite-difference step for normals: about the surface threshold, and never below what
-// f32 can resolve at this distance from the origin.
+// The finite-difference step for normals: a small fraction of the surface threshold (so a
+// crease or a seam blends only the normals of points that close to it), and never below what
+// f32 can resolve at this distance from the origin. Against the f64 reference (64x48 stress
+// scenes) 0.5 of the threshold gave a median error of 0.5 degree on spheres and 48 degrees at
+// the 99th percentile on boxes; 0.002 gives 0.01 and 0.03.
 fn normal_step(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
     let scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
-    return max(0.5 * surface_epsilon(t, pixel), 4e-6 * scale);
+    return max(0.002 * surface_epsilon(t, pixel), 2e-5 * scale);
 }
 
-// How far a secondary ray (shadow, reflection) starts off the surface: beyond the surface
-// threshold, and beyond what f32 can resolve at this distance from the origin.
+// The normal at a hit p. The step is rounded up to a power of two and p to a multiple of it,
+// so that every sample point p + k h is exact in f32: the samples are then as far apart as
+// the formula says, and only the distance function's own rounding remains. p moves by at most
+// half the step, far below the surface threshold. A normal facing away from the ray `rd`
+// comes from a surface of no thickness (the distance is |y| across it, so the differences
+// cancel): it is taken again a few steps back along the ray, on the side the ray comes from.
+fn surface_normal(p: vec3<f32>, rd: vec3<f32>, t: f32, pixel: f32) -> vec3<f32> {
+    let h = exp2(ceil(log2(normal_step(p, t, pixel))));
+    let n = scene_normal(round(p / h) * h, h);
+    if dot(n, rd) <= 0.0 {
+        return n;
+    }
+    return scene_normal(round((p - 4.0 * h * rd) / h) * h, h);
+}
+
+// How far a secondary ray (shadow, reflection) starts off the surface: far enough that
+// rounding at this distance from the origin cannot put it back inside (the refined hit is
+// within about 1e-7 of it), and a small fraction of the surface threshold, not several
+// thresholds: a start four thresholds out (as before) stepped past contact shadows and
+// nearby reflected surfaces (colour error against the f64 reference, 64x48: hard shadows
+// 3.0 -> 2.3, soft 3.7 -> 2.6, reflections 1.25 -> 0.03 in 0..255).
 fn ray_offset(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
     let scale = max(max(abs(p.x), abs(p.y)), max(abs(p.z), 1.0));
-    return max(4.0 * surface_epsilon(t, pixel), 2e-5 * scale);
+    return max(0.05 * surface_epsilon(t, pixel), 1e-4 * scale);
 }

@@ -1,6 +1,6 @@
 // Plain sphere tracing: step by the distance until it is below the surface threshold.
-// A hit is refined by a few more plain steps, which shrinks the depth error of an exact
-// distance far below the threshold at almost no cost.
+// A hit is refined to the surface (see `refine`); a ray that only passes a surface by within
+// the threshold marches on.
 fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     var t = 0.0;
     var steps = 0u;
@@ -11,7 +11,15 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         let d = scene_distance(ro + rd * t);
         steps = steps + 1u;
         if d < surface_epsilon(t, pixel) {
-            return refine(ro, rd, t, d, steps);
+            let refined = refine(ro, rd, t, d, steps, surface_epsilon(t, pixel));
+            if refined.hit {
+                // A surface refined to beyond MAX_DISTANCE is out of range: a miss.
+                return Hit(refined.t, refined.steps, refined.t <= MAX_DISTANCE);
+            }
+            // The ray passed the surface by: march on from where refinement left it.
+            steps = refined.steps;
+            t = refined.t;
+            continue;
         }
         t = t + d;
     }

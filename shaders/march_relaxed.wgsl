@@ -20,7 +20,19 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             omega = 1.0;
         } else {
             if d < surface_epsilon(t, pixel) {
-                return refine(ro, rd, t, d, steps);
+                let refined = refine(ro, rd, t, d, steps, surface_epsilon(t, pixel));
+                if refined.hit {
+                    // A surface refined to beyond MAX_DISTANCE is out of range: a miss.
+                    return Hit(refined.t, refined.steps, refined.t <= MAX_DISTANCE);
+                }
+                // The ray passed the surface by: march on plainly from where refinement
+                // left it.
+                steps = refined.steps;
+                t = refined.t;
+                omega = 1.0;
+                prev_radius = 0.0;
+                step = 0.0;
+                continue;
             }
             step = d * omega;
         }

@@ -16,7 +16,7 @@ fn radiance(ro: vec3<f32>, rd: vec3<f32>, first: Hit, pixel: f32) -> vec3<f32> {
             break;
         }
         let p = origin + dir * hit.t;
-        let n = scene_normal(p, normal_step(p, hit.t, pixel));
+        let n = surface_normal(p, dir, hit.t, pixel);
         let material = scene_material(p);
         let offset = ray_offset(p, hit.t, pixel);
         let local = finish(shade(p, n, dir, material, offset), hit.t);

@@ -2,6 +2,7 @@
 //! Exit status: 0 success, 1 a problem in the user's input, 2 usage or environment.
 
 mod check;
+mod compare;
 mod compile;
 mod eval;
 mod render;

@@ -35,6 +35,13 @@ pub struct Args {
     /// built yet: exits with status 2)
     #[arg(long)]
     interpreted: bool,
+    /// Also render the f64 CPU reference and print the GPU frame's error against it (depth,
+    /// hit/miss, normals, colour, NaN/Inf) on stdout; -o is optional then
+    #[arg(long)]
+    compare: bool,
+    /// With --compare: print the table as Markdown (a header and one row named for the scene)
+    #[arg(long, requires = "compare")]
+    markdown: bool,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -152,14 +159,16 @@ fn check_output(out: &Path, aov: Option<AovKind>) -> Result<(), String> {
 }
 
 pub fn run(a: Args) -> Outcome {
-    let Some(out) = &a.output else {
+    if a.output.is_none() && !a.compare {
         eprintln!("error: `sdfc render` needs an output file: -o OUT.png (or -o OUT.exr|OUT.npy with --aov)");
         eprintln!("\nUsage: sdfc render SCENE.sdf -o OUT.png [--size WxH] [--param NAME=VALUE]... [--time T] [--aov depth|normal|steps]");
         return Outcome::EnvError;
-    };
-    if let Err(msg) = check_output(out, a.aov) {
-        eprintln!("error: {msg}");
-        return Outcome::EnvError;
+    }
+    if let Some(out) = &a.output {
+        if let Err(msg) = check_output(out, a.aov) {
+            eprintln!("error: {msg}");
+            return Outcome::EnvError;
+        }
     }
     if a.interpreted {
         eprintln!(
@@ -176,10 +185,11 @@ pub fn run(a: Args) -> Outcome {
         Ok(c) => c,
         Err(o) => return o,
     };
-    let params = match param_overrides(compiled.program(), &a.params) {
-        Ok(p) => to_f32(&p),
+    let overrides = match param_overrides(compiled.program(), &a.params) {
+        Ok(p) => p,
         Err(o) => return o,
     };
+    let params = to_f32(&overrides);
     let renderer = match open_renderer() {
         Ok(r) => r,
         Err(o) => return o,
@@ -189,11 +199,30 @@ pub fn run(a: Args) -> Outcome {
         height: a.size.1,
         time: a.time,
         params,
-        aovs: a.aov.is_some(),
+        aovs: a.aov.is_some() || a.compare,
     };
     let frame = match renderer.render(&compiled, &opts) {
         Ok(f) => f,
         Err(e) => return render_failure(&e),
+    };
+    if a.compare {
+        let name = a.scene.file_stem().map_or_else(
+            || a.scene.display().to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        );
+        let table = crate::compare::table(
+            &compiled,
+            &frame,
+            &overrides,
+            a.time as f64,
+            &name,
+            a.markdown,
+            &renderer.adapter_description().to_string(),
+        );
+        print!("{table}");
+    }
+    let Some(out) = &a.output else {
+        return Outcome::Ok;
     };
     let written = match a.aov {
         None => output::write_png(out, &frame),

@@ -509,3 +509,70 @@ render { shadows: soft(16), ao: ao(), reflections: 1, background: [0.55, 0.7, 0.
 scene = union(sphere(1), box(1.4).rotate_y(30deg), smooth: 0.3).material(red).translate([0, 1, 0])
       | plane([0, 1, 0], 0);
 ";
+
+// ---- comparison with the f64 reference ----
+
+/// The value after `label` on a line of the plain comparison table.
+fn table_value<'a>(stdout: &'a str, label: &str) -> &'a str {
+    stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with(label))
+        .and_then(|l| l.trim_start()[label.len()..].split_whitespace().next())
+        .unwrap_or_else(|| panic!("no `{label}` line in:\n{stdout}"))
+}
+
+#[test]
+fn render_compare_prints_the_error_table_without_an_output_file() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("compare");
+    let scene = t.write("s.sdf", SPHERE);
+    let run = sdfc_in(&t.0, &["render", s(&scene), "--compare", "--size", "32x24"]).expect_code(0);
+    assert_eq!(
+        table_value(&run.stdout, "pixels"),
+        "768",
+        "{}",
+        run.describe()
+    );
+    assert_eq!(table_value(&run.stdout, "NaN/Inf pixels in the AOVs"), "0");
+    assert_eq!(
+        table_value(&run.stdout, "hit/miss mismatches: interior"),
+        "0"
+    );
+    // A unit sphere from the default camera: depth errors far below the surface threshold.
+    let median: f64 = table_value(&run.stdout, "depth error, relative: median")
+        .parse()
+        .unwrap();
+    assert!(median < 1e-4, "{}", run.stdout);
+    // With -o the picture is written too; --markdown gives a header and one row.
+    let out = t.path("o.png");
+    let run = sdfc_in(
+        &t.0,
+        &[
+            "render",
+            s(&scene),
+            "--compare",
+            "--markdown",
+            "--size",
+            "16x12",
+            "-o",
+            s(&out),
+        ],
+    )
+    .expect_code(0);
+    assert_eq!(read_png(&out).width(), 16);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{}", run.stdout);
+    assert!(lines[0].starts_with("| scene | hits |"), "{}", run.stdout);
+    assert!(lines[2].starts_with("| s | "), "{}", run.stdout);
+}
+
+#[test]
+fn render_without_output_is_still_a_usage_error_without_compare() {
+    let t = TempDir::new("compare-usage");
+    let scene = t.write("s.sdf", SPHERE);
+    sdfc_in(&t.0, &["render", s(&scene)]).expect_code(2);
+    // --markdown only goes with --compare.
+    sdfc_in(&t.0, &["render", s(&scene), "--markdown", "-o", "x.png"]).expect_code(2);
+}

@@ -36,6 +36,22 @@ pub struct Program {
     pub groups: Vec<Func>,
     /// Exactness and Lipschitz bounds of the scene's shapes (indexed like `scene.shapes`).
     pub analysis: analysis::Analysis,
+    /// For a camera far from the origin, the same functions in camera-relative coordinates
+    /// (see [`passes::relative`]), which the render shader uses; `distance`, `material` and
+    /// `groups` stay in world coordinates (the library form, `sdfc eval`, the reference).
+    pub relative: Option<Relative>,
+}
+
+/// The scene functions in coordinates centred on `origin` (the camera position): each takes
+/// a point q and gives the world function's value at q + origin.
+#[derive(Clone, Debug)]
+pub struct Relative {
+    pub origin: [f32; 3],
+    pub distance: Func,
+    pub material: Func,
+    pub groups: Vec<Func>,
+    /// The scene's lights moved by -origin.
+    pub lights: Vec<scene::Light>,
 }
 
 /// The IR at each stage, for golden tests and `--emit`.
@@ -92,9 +108,29 @@ pub fn compile_with(
     let distance = opt(&funcs.distance);
     let material = opt(&funcs.material);
     let groups: Vec<Func> = funcs.groups.iter().map(&mut opt).collect();
+    let relative = passes::relative::wanted(&scene).then(|| {
+        let origin = scene.camera.position;
+        let shifted = passes::relative::shift(&scene, origin);
+        let lights = shifted.lights.clone();
+        let rel = to_ssa::functions(&passes::merge::run(&shifted), opts.cull);
+        Relative {
+            origin,
+            distance: opt(&rel.distance),
+            material: opt(&rel.material),
+            groups: rel.groups.iter().map(&mut opt).collect(),
+            lights,
+        }
+    });
     // A non-finite constant that reached a function unfolded (a transform of infinite size,
     // say) is as much an error as one that folding met.
-    for f in [&distance, &material].into_iter().chain(&groups) {
+    let rel_funcs = relative
+        .iter()
+        .flat_map(|r| [&r.distance, &r.material].into_iter().chain(&r.groups));
+    for f in [&distance, &material]
+        .into_iter()
+        .chain(&groups)
+        .chain(rel_funcs.clone())
+    {
         for (id, node) in f.graph.nodes() {
             if node.as_const().is_some_and(|v| !v.all_finite()) {
                 errors.push((f.graph.span(id), passes::fold::NON_FINITE.to_string()));
@@ -119,7 +155,11 @@ pub fn compile_with(
             );
         }
     }
-    for f in [&distance, &material].into_iter().chain(&groups) {
+    for f in [&distance, &material]
+        .into_iter()
+        .chain(&groups)
+        .chain(rel_funcs)
+    {
         if let Some(what) = &f.graph.ill_typed {
             diags.push(Diagnostic::error(
                 Default::default(),
@@ -139,6 +179,7 @@ pub fn compile_with(
         material,
         groups,
         analysis,
+        relative,
     };
     (
         Some(Stages {

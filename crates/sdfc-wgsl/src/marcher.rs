@@ -4,12 +4,19 @@
 
 use crate::literal::{float, vec3};
 use crate::parts;
-use sdfc_ir::scene::{Epsilon, LightKind, Normals, Scene, Shadows};
+use sdfc_ir::scene::{Epsilon, Light, LightKind, Normals, Scene, Shadows};
 use std::fmt::Write;
 
-pub fn emit(scene: &Scene) -> String {
+/// Where the shader's coordinates are centred and the lights there: the world origin, or
+/// the camera for camera-relative coordinates (`sdfc_ir::Relative`).
+pub struct View<'a> {
+    pub origin: [f32; 3],
+    pub lights: &'a [Light],
+}
+
+pub fn emit(scene: &Scene, view: &View) -> String {
     let mut s = String::new();
-    s += &constants(scene);
+    s += &constants(scene, view.origin);
     s += "\n";
     s += parts::HIT;
     s += "\n";
@@ -41,7 +48,7 @@ pub fn emit(scene: &Scene) -> String {
         s += parts::AMBIENT_OCCLUSION;
         s += "\n";
     }
-    s += &shade(scene);
+    s += &shade(scene, view.lights);
     s += "\n";
     s += &finish(scene);
     s += "\n";
@@ -83,14 +90,24 @@ fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32) {
     )
 }
 
-fn constants(scene: &Scene) -> String {
+fn constants(scene: &Scene, origin: [f32; 3]) -> String {
     let r = &scene.render;
     let (forward, right, up, tan_half) = camera_basis(scene);
     let mut s = String::from("// Camera (spec section 8) and render settings (spec section 7).\n");
+    if origin != [0.0; 3] {
+        let _ = writeln!(
+            s,
+            "// Camera-relative coordinates: the world point p is p - {} here.",
+            vec3(origin)
+        );
+    }
+    let position: Vec<f32> = (0..3)
+        .map(|k| (scene.camera.position[k] as f64 - origin[k] as f64) as f32)
+        .collect();
     let _ = writeln!(
         s,
         "const CAMERA_POSITION: vec3<f32> = {};",
-        vec3(scene.camera.position)
+        vec3([position[0], position[1], position[2]])
     );
     let _ = writeln!(s, "const CAMERA_FORWARD: vec3<f32> = {};", vec3(forward));
     let _ = writeln!(s, "const CAMERA_RIGHT: vec3<f32> = {};", vec3(right));
@@ -140,7 +157,7 @@ fn surface_epsilon(scene: &Scene) -> String {
 /// Phong shading (spec section 6) for each light of the scene, unrolled; shadows and ambient
 /// occlusion appear only when the settings ask for them. `offset` is how far shadow rays start
 /// off the surface.
-fn shade(scene: &Scene) -> String {
+fn shade(scene: &Scene, lights: &[Light]) -> String {
     let shadows = scene.render.shadows != Shadows::None;
     let mut s =
         String::from("// Phong shading: ambient, then diffuse and specular for each light.\n");
@@ -160,7 +177,7 @@ fn shade(scene: &Scene) -> String {
     if shadows {
         s += "    let origin = p + n * offset;\n";
     }
-    for (i, light) in scene.lights.iter().enumerate() {
+    for (i, light) in lights.iter().enumerate() {
         let radiance: Vec<f32> = light.color.iter().map(|c| c * light.intensity).collect();
         let _ = writeln!(s, "    {{");
         let tmax = match &light.kind {

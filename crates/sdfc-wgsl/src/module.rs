@@ -16,10 +16,14 @@ fn uses(f: &&Func, pred: impl Fn(&Op) -> bool) -> bool {
 
 /// The whole module; `lib` leaves out the interface and marcher.
 pub fn emit(p: &Program, lib: bool) -> String {
-    let funcs: Vec<&Func> = [&p.distance, &p.material]
-        .into_iter()
-        .chain(&p.groups)
-        .collect();
+    // The render shader marches in camera-relative coordinates where the program has them;
+    // the library keeps the world coordinates its callers pass.
+    let relative = p.relative.as_ref().filter(|_| !lib);
+    let (distance, material, groups) = match relative {
+        Some(r) => (&r.distance, &r.material, &r.groups),
+        None => (&p.distance, &p.material, &p.groups),
+    };
+    let funcs: Vec<&Func> = [distance, material].into_iter().chain(groups).collect();
     let uses_time = funcs.iter().any(|f| uses(f, |o| *o == Op::Time));
     let uses_params = funcs.iter().any(|f| uses(f, |o| matches!(o, Op::Param(_))));
     let n_params = p.scene.params.len();
@@ -74,7 +78,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     s += "\n// A surface's material: albedo = (rgb colour, reflectivity); phong = (ambient, diffuse, specular, shininess).\n";
     s += "struct SceneMaterial {\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
-    if !p.groups.is_empty() {
+    if !groups.is_empty() {
         s += "\n// The distance and material of a group of shapes.\n";
         s += "struct SceneSample {\n    distance: f32,\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
     }
@@ -90,29 +94,39 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += "\n";
         s += parts::helper(*h);
     }
-    for g in &p.groups {
+    for g in groups {
         s += "\n";
         s += &emit_func(
             g,
-            &p.groups,
+            groups,
             "The distance (and, when asked, the material) of one group of a large union.",
         );
     }
     s += "\n";
     s += &emit_func(
-        &p.distance,
-        &p.groups,
+        distance,
+        groups,
         "The signed distance from p to the scene (the march loop calls only this).",
     );
     s += "\n";
     s += &emit_func(
-        &p.material,
-        &p.groups,
+        material,
+        groups,
         "The material at a surface point p (called once per hit, never while marching).",
     );
     if !lib {
         s += "\n";
-        s += &marcher::emit(&p.scene);
+        let view = match relative {
+            Some(r) => marcher::View {
+                origin: r.origin,
+                lights: &r.lights,
+            },
+            None => marcher::View {
+                origin: [0.0; 3],
+                lights: &p.scene.lights,
+            },
+        };
+        s += &marcher::emit(&p.scene, &view);
     }
     s
 }

@@ -7,6 +7,7 @@ pub mod cse;
 pub mod dce;
 pub mod fold;
 pub mod merge;
+pub mod relative;
 pub mod simplify;
 
 use crate::func::Func;

@@ -134,3 +134,22 @@ fn parentheses_nested_past_the_limit_are_refused_without_overflow() {
     let msg = refused("deep parentheses", &src);
     assert!(msg.contains("nested too deeply"), "{msg}");
 }
+
+/// A fuzzer find: unclosed parentheses inside lambdas inside calls, a dozen deep, made pest's
+/// backtracking exponential (minutes for 2.8 kB). The parser's call budget now stops it with
+/// a diagnostic at the item, and the items before it are still checked.
+#[test]
+fn exponential_backtracking_is_cut_off_with_a_diagnostic() {
+    let path = sdfc_tests::root().join("regressions/exponential_backtracking.sdf");
+    let src = std::fs::read_to_string(&path).expect("regression file");
+    let file = sdfc_syntax::parse(&src).expect_err("the file is broken");
+    let tangled: Vec<_> = file
+        .iter()
+        .filter(|d| d.message.contains("too tangled"))
+        .collect();
+    assert_eq!(tangled.len(), 1, "{file:?}");
+    assert!(
+        file.len() >= 4,
+        "the earlier items' errors are reported too"
+    );
+}

@@ -15,8 +15,17 @@ struct SdfParser;
 /// After this many diagnostics the parser stops looking for more.
 const MAX_DIAGNOSTICS: usize = 100;
 
+/// pest's budget of rule calls for one item. A PEG parser backtracks, and some broken inputs
+/// (unclosed parentheses inside lambdas inside calls, nested a dozen deep) made it take
+/// exponential time: a 2.8 kB file found by the fuzzer took minutes. Valid items need a few
+/// dozen calls per byte; this budget is generous for an item of the maximum file size and
+/// bounds the worst case to about a second. Exceeding it is reported as a syntax error.
+pub const CALL_LIMIT: usize = 64 * crate::MAX_SOURCE_BYTES;
+
 pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
     scan::precheck(source).map_err(|d| vec![d])?;
+    // Process-wide in pest, and the same value for every parse, so threads cannot disagree.
+    pest::set_call_limit(std::num::NonZeroUsize::new(CALL_LIMIT));
     let pratt = lower::pratt();
     let mut items = Vec::new();
     let mut diags: Vec<Diagnostic> = Vec::new();
@@ -60,6 +69,21 @@ pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
                 context = pos;
                 pos += end.max(1);
             }
+            Err(error) if is_call_limit(&error) => {
+                diags.push(
+                    Diagnostic::error(
+                        Span::new(pos, bound),
+                        "this item is too tangled for the parser to make sense of",
+                    )
+                    .with_label("gave up parsing here")
+                    .with_hint(
+                        "look for unclosed `(` or `[` in this item; split long expressions \
+                         with `let`",
+                    ),
+                );
+                context = pos;
+                pos = bound.max(pos + 1);
+            }
             Err(error) => {
                 let (err_pos, d) = syntax_error::diagnose(source, pos, context, &error);
                 diags.push(d);
@@ -73,6 +97,14 @@ pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
     } else {
         Err(diags)
     }
+}
+
+/// Whether pest gave up because the item used up [`CALL_LIMIT`].
+fn is_call_limit(error: &pest::error::Error<Rule>) -> bool {
+    matches!(
+        &error.variant,
+        pest::error::ErrorVariant::CustomError { message } if message.contains("call limit")
+    )
 }
 
 fn internal(pos: usize, what: &str) -> Diagnostic {

@@ -51,44 +51,9 @@ struct Frame {
 @group(0) @binding(3) var<storage, read> code: array<vec4<u32>>;
 @group(0) @binding(4) var<storage, read> data: array<vec4<f32>>;
 
-// The settings under the names of the specialised shader's constants, so the hand-written
-// marcher and shading parts run here unchanged; `load_frame` fills them.
-var<private> CAMERA_POSITION: vec3<f32>;
-var<private> CAMERA_FORWARD: vec3<f32>;
-var<private> CAMERA_RIGHT: vec3<f32>;
-var<private> CAMERA_UP: vec3<f32>;
-var<private> TAN_HALF_FOV: f32;
-var<private> MAX_STEPS: u32;
-var<private> MAX_DISTANCE: f32;
-var<private> RELAXATION: f32;
-var<private> ANTIALIAS: u32;
-var<private> BACKGROUND: vec3<f32>;
-var<private> INV_GAMMA: f32;
-var<private> SHADOW_K: f32;
-var<private> AO_SAMPLES: u32;
-var<private> AO_STEP: f32;
-var<private> AO_STRENGTH: f32;
-var<private> AO_FALLOFF: f32;
-var<private> REFLECTIONS: u32;
-
+// The specialised shader's entry point calls this to load its inputs; here the settings
+// stay in the uniform, which the shared parts read directly (see `interp::runtime`).
 fn load_frame() {
-    CAMERA_POSITION = frame.camera_position;
-    CAMERA_FORWARD = frame.camera_forward;
-    CAMERA_RIGHT = frame.camera_right;
-    CAMERA_UP = frame.camera_up;
-    TAN_HALF_FOV = frame.tan_half_fov;
-    MAX_STEPS = frame.max_steps;
-    MAX_DISTANCE = frame.max_distance;
-    RELAXATION = frame.relaxation;
-    ANTIALIAS = frame.antialias;
-    BACKGROUND = frame.background;
-    INV_GAMMA = frame.inv_gamma;
-    SHADOW_K = frame.shadow_k;
-    AO_SAMPLES = frame.ao_samples;
-    AO_STEP = frame.ao_step;
-    AO_STRENGTH = frame.ao_strength;
-    AO_FALLOFF = frame.ao_falloff;
-    REFLECTIONS = frame.reflections;
 }
 
 // A surface's material: albedo = (rgb colour, reflectivity); phong = (ambient, diffuse, specular, shininess).

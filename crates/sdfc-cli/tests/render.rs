@@ -192,12 +192,23 @@ fn interpreted_reports_input_errors_as_the_specialised_path() {
     let out = t.path("o.png");
     let run = sdfc_in(
         &t.0,
-        &["render", s(&scene), "-o", s(&out), "--interpreted", "--param", "nope=1"],
+        &[
+            "render",
+            s(&scene),
+            "-o",
+            s(&out),
+            "--interpreted",
+            "--param",
+            "nope=1",
+        ],
     )
     .expect_code(1);
     assert!(run.stderr.contains("nope"), "{}", run.describe());
-    let run = sdfc_in(&t.0, &["render", s(&broken), "-o", s(&out), "--interpreted"])
-        .expect_code(1);
+    let run = sdfc_in(
+        &t.0,
+        &["render", s(&broken), "-o", s(&out), "--interpreted"],
+    )
+    .expect_code(1);
     assert!(run.stderr.contains("sphere"), "{}", run.describe());
     // A scene beyond the interpreter's register file: an input error with the way out.
     let n = 72;
@@ -211,10 +222,22 @@ fn interpreted_reports_input_errors_as_the_specialised_path() {
     );
     let run = sdfc_in(
         &t.0,
-        &["render", s(&big), "-o", s(&out), "--interpreted", "--size", "8x8"],
+        &[
+            "render",
+            s(&big),
+            "-o",
+            s(&out),
+            "--interpreted",
+            "--size",
+            "8x8",
+        ],
     )
     .expect_code(1);
-    assert!(run.stderr.contains("without --interpreted"), "{}", run.describe());
+    assert!(
+        run.stderr.contains("without --interpreted"),
+        "{}",
+        run.describe()
+    );
     assert!(!run.stderr.contains("panicked"), "{}", run.describe());
 }
 

@@ -232,7 +232,12 @@ impl Renderer {
     }
 
     /// Checks an image size against the device's limits; returns the dispatch size.
-    pub(crate) fn check_size(&self, width: u32, height: u32, aovs: bool) -> Result<(u32, u32), RenderError> {
+    pub(crate) fn check_size(
+        &self,
+        width: u32,
+        height: u32,
+        aovs: bool,
+    ) -> Result<(u32, u32), RenderError> {
         if width == 0 || height == 0 {
             return Err(RenderError::ImageSize(format!(
                 "the image size {width}x{height} is empty"

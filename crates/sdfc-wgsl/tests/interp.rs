@@ -49,7 +49,11 @@ fn every_opcode_has_one_case_and_every_helper_an_opcode() {
     }
     let codes: std::collections::BTreeSet<u32> =
         opcodes::Opcode::ALL.iter().map(|o| o.code()).collect();
-    assert_eq!(codes.len(), opcodes::Opcode::ALL.len(), "opcode numbers repeat");
+    assert_eq!(
+        codes.len(),
+        opcodes::Opcode::ALL.len(),
+        "opcode numbers repeat"
+    );
     let missing: Vec<&str> = Helper::ALL
         .iter()
         .filter(|h| opcodes::helper_opcode(**h).is_none())

@@ -160,7 +160,13 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let mut registers = 1;
 
     let mut chunk = Chunk::new();
-    let d = e.func(&mut chunk, &program.distance, &program.distance.results, Val::Reg(POINT), 0)?;
+    let d = e.func(
+        &mut chunk,
+        &program.distance,
+        &program.distance.results,
+        Val::Reg(POINT),
+        0,
+    )?;
     let d = reg(d[0], "the distance")?;
     chunk.ins.push(VIns {
         op: Opcode::Ret,
@@ -173,7 +179,13 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let distance = [start, code.len() as u32];
 
     let mut chunk = Chunk::new();
-    let m = e.func(&mut chunk, &program.material, &program.material.results, Val::Reg(POINT), 0)?;
+    let m = e.func(
+        &mut chunk,
+        &program.material,
+        &program.material.results,
+        Val::Reg(POINT),
+        0,
+    )?;
     if m.len() != 2 {
         return Err(EncodeError::Unsupported(format!(
             "the material function returns {} values, not 2",
@@ -367,9 +379,7 @@ impl Encoder<'_> {
             Op::Time => Ok(Val::Load(Opcode::Time, 0)),
             Op::Param(i) => Ok(Val::Load(Opcode::Param, u32::from(i))),
             // As in the WGSL emitter: only reachable if a lambda argument escaped substitution.
-            Op::LambdaArg { .. } => {
-                self.load_const(c, &sdfc_ir::eval::zero_of(node.ty))
-            }
+            Op::LambdaArg { .. } => self.load_const(c, &sdfc_ir::eval::zero_of(node.ty)),
             Op::Call { .. } => Err(unsupported("a nested call")),
             Op::Neg => simple(c, Opcode::Neg),
             Op::Add => simple(c, Opcode::Add),
@@ -384,11 +394,9 @@ impl Encoder<'_> {
             Op::Ne => simple(c, Opcode::Ne),
             Op::Mul | Op::MatMul => match (a[0], a[1]) {
                 (Val::Reg(x), Val::Reg(y)) => Ok(Val::Reg(c.emit(Opcode::Mul, &[x, y], 0))),
-                (Val::Mat(m), Val::Reg(v)) if arg_ty(1) == Ty::Vec3 => Ok(Val::Reg(c.emit(
-                    Opcode::Mat3Vec,
-                    &[m[0], m[1], m[2], v],
-                    0,
-                ))),
+                (Val::Mat(m), Val::Reg(v)) if arg_ty(1) == Ty::Vec3 => {
+                    Ok(Val::Reg(c.emit(Opcode::Mat3Vec, &[m[0], m[1], m[2], v], 0)))
+                }
                 (Val::Mat(m), Val::Mat(n)) => {
                     let cols = n.map(|col| c.emit(Opcode::Mat3Vec, &[m[0], m[1], m[2], col], 0));
                     Ok(Val::Mat(cols))
@@ -436,9 +444,11 @@ impl Encoder<'_> {
                 reg(a[2], "a matrix column")?,
             ])),
             Op::Transpose => match a[0] {
-                Val::Mat(m) => Ok(Val::Mat(
-                    [0, 1, 2].map(|row| c.emit(Opcode::MatRow, &[m[0], m[1], m[2]], row)),
-                )),
+                Val::Mat(m) => {
+                    Ok(Val::Mat([0, 1, 2].map(|row| {
+                        c.emit(Opcode::MatRow, &[m[0], m[1], m[2]], row)
+                    })))
+                }
                 _ => Err(unsupported("a transpose of a vector")),
             },
             Op::Builtin(b) => {
@@ -451,7 +461,9 @@ impl Encoder<'_> {
                 };
                 let op = match b {
                     Builtin::Length if width == 1 => Some(Opcode::Abs),
-                    Builtin::Length => by_width([Opcode::Length2, Opcode::Length3, Opcode::Length4]),
+                    Builtin::Length => {
+                        by_width([Opcode::Length2, Opcode::Length3, Opcode::Length4])
+                    }
                     Builtin::Distance => {
                         let r = regs("distance")?;
                         let diff = c.emit(Opcode::Sub, &r, 0);
@@ -474,7 +486,11 @@ impl Encoder<'_> {
                 };
                 match op {
                     Some(op) => simple(c, op),
-                    None => Err(unsupported(format!("built-in `{}` on {:?}", b.name(), arg_ty(0)))),
+                    None => Err(unsupported(format!(
+                        "built-in `{}` on {:?}",
+                        b.name(),
+                        arg_ty(0)
+                    ))),
                 }
             }
             Op::Helper(h) => match helper_opcode(h) {
@@ -482,7 +498,10 @@ impl Encoder<'_> {
                 _ => Err(unsupported(format!("helper `{}` has no opcode", h.name()))),
             },
             #[allow(unreachable_patterns)] // operations added after the interpreter
-            _ => Err(unsupported(format!("operation {:?} has no opcode", node.op))),
+            _ => Err(unsupported(format!(
+                "operation {:?} has no opcode",
+                node.op
+            ))),
         }
     }
 }
@@ -610,7 +629,9 @@ impl Bytecode {
                     Opcode::Param => format!(" #{imm}"),
                     Opcode::Swizzle => format!(
                         " .{}",
-                        (0..4).map(|i| ['x', 'y', 'z', 'w'][((imm >> (2 * i)) & 3) as usize]).collect::<String>()
+                        (0..4)
+                            .map(|i| ['x', 'y', 'z', 'w'][((imm >> (2 * i)) & 3) as usize])
+                            .collect::<String>()
                     ),
                     Opcode::MatRow => format!(" row {imm}"),
                     _ => String::new(),

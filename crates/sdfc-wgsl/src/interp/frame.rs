@@ -140,7 +140,11 @@ pub fn frame_data(
     w.u(0);
     debug_assert_eq!(w.0.len(), FRAME_BYTES);
 
-    let data_bytes = data.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    let data_bytes = data
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
     let code_bytes = code
         .code
         .iter()

@@ -16,8 +16,8 @@
 //!
 //! The shader reuses the specialised shader's hand-written parts (hit refinement, the
 //! relaxed marcher, camera, normals, shadows, ambient occlusion, reflections, entry point):
-//! the settings they read as constants are private variables of the same names here, set
-//! from the uniform. The relaxed marcher with `RELAXATION = 1` takes exactly the plain
+//! each compile-time constant they name (`MAX_STEPS`, `CAMERA_POSITION`, ...) is rewritten
+//! to the uniform's field ([`RUNTIME_SETTINGS`]). The relaxed marcher with `RELAXATION = 1` takes exactly the plain
 //! marcher's steps, and the reflection loop with `REFLECTIONS = 0` returns exactly the
 //! plain radiance, so one shader covers every setting.
 
@@ -34,6 +34,50 @@ use std::sync::OnceLock;
 pub const INTERFACE: &str = include_str!("../../../../shaders/interpreter/interface.wgsl");
 pub const INTERPRET: &str = include_str!("../../../../shaders/interpreter/interpret.wgsl");
 pub const SCENE: &str = include_str!("../../../../shaders/interpreter/scene.wgsl");
+
+/// The specialised shader's constants and the `Frame` fields that hold them here.
+pub const RUNTIME_SETTINGS: &[(&str, &str)] = &[
+    ("CAMERA_POSITION", "frame.camera_position"),
+    ("CAMERA_FORWARD", "frame.camera_forward"),
+    ("CAMERA_RIGHT", "frame.camera_right"),
+    ("CAMERA_UP", "frame.camera_up"),
+    ("TAN_HALF_FOV", "frame.tan_half_fov"),
+    ("MAX_STEPS", "frame.max_steps"),
+    ("MAX_DISTANCE", "frame.max_distance"),
+    ("RELAXATION", "frame.relaxation"),
+    ("ANTIALIAS", "frame.antialias"),
+    ("BACKGROUND", "frame.background"),
+    ("INV_GAMMA", "frame.inv_gamma"),
+    ("SHADOW_K", "frame.shadow_k"),
+    ("AO_SAMPLES", "frame.ao_samples"),
+    ("AO_STEP", "frame.ao_step"),
+    ("AO_STRENGTH", "frame.ao_strength"),
+    ("AO_FALLOFF", "frame.ao_falloff"),
+    ("REFLECTIONS", "frame.reflections"),
+];
+
+/// A shared part with each settings constant (a whole identifier) replaced by its field.
+fn runtime(part: &str) -> String {
+    let mut out = String::with_capacity(part.len());
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        match RUNTIME_SETTINGS.iter().find(|(c, _)| *c == word.as_str()) {
+            Some((_, field)) => out.push_str(field),
+            None => out.push_str(word),
+        }
+        word.clear();
+    };
+    for ch in part.chars() {
+        if ch.is_ascii_alphanumeric() || ch == '_' {
+            word.push(ch);
+        } else {
+            flush(&mut word, &mut out);
+            out.push(ch);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
 
 /// A hand-written part whose `fn NAME(` is renamed, so that several variants of one part
 /// (normals, shadows) can sit in one module behind a runtime switch.
@@ -63,33 +107,33 @@ pub fn emit() -> String {
     s += "\n";
     s += INTERPRET;
     s += "\n";
-    s += SCENE;
+    s += &runtime(SCENE);
     s += "\n";
-    s += parts::HIT;
+    s += &runtime(parts::HIT);
     s += "\n";
-    s += parts::MARCH_RELAXED;
+    s += &runtime(parts::MARCH_RELAXED);
     s += "\n";
-    s += parts::CAMERA;
+    s += &runtime(parts::CAMERA);
     s += "\n";
-    s += parts::SAFE_NORMALIZE;
+    s += &runtime(parts::SAFE_NORMALIZE);
     for (part, name) in [
         (parts::NORMALS_TETRAHEDRON, "scene_normal_tetrahedron"),
         (parts::NORMALS_CENTRAL, "scene_normal_central"),
         (parts::NORMALS_FORWARD, "scene_normal_forward"),
     ] {
         s += "\n";
-        s += &renamed(part, "scene_normal", name);
+        s += &runtime(&renamed(part, "scene_normal", name));
     }
     s += "\n";
-    s += &renamed(parts::SHADOW_HARD, "shadow", "shadow_hard");
+    s += &runtime(&renamed(parts::SHADOW_HARD, "shadow", "shadow_hard"));
     s += "\n";
-    s += &renamed(parts::SHADOW_SOFT, "shadow", "shadow_soft");
+    s += &runtime(&renamed(parts::SHADOW_SOFT, "shadow", "shadow_soft"));
     s += "\n";
-    s += parts::AMBIENT_OCCLUSION;
+    s += &runtime(parts::AMBIENT_OCCLUSION);
     s += "\n";
-    s += parts::RADIANCE_REFLECTIONS;
+    s += &runtime(parts::RADIANCE_REFLECTIONS);
     s += "\n";
-    s += parts::MAIN;
+    s += &runtime(parts::MAIN);
     s
 }
 

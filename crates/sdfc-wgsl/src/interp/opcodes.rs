@@ -166,7 +166,9 @@ pub fn builtin_opcode(b: Builtin) -> Option<Opcode> {
 
 /// `const OP_*: u32 = N;` for every opcode: the WGSL side's numbering.
 pub fn wgsl_constants() -> String {
-    let mut s = String::from("// Opcode numbers, emitted from the encoder's table (sdfc-wgsl src/interp/opcodes.rs).\n");
+    let mut s = String::from(
+        "// Opcode numbers, emitted from the encoder's table (sdfc-wgsl src/interp/opcodes.rs).\n",
+    );
     for op in Opcode::ALL {
         let _ = writeln!(s, "const {}: u32 = {}u;", op.wgsl_name(), op.code());
     }

@@ -182,7 +182,8 @@ fn render(bencher: divan::Bencher, name: &str) {
 }
 
 /// Wall time of a whole interpreted frame (the bytecode encoded once, outside the loop).
-#[divan::bench(args = SCENES, sample_count = 10, sample_size = 1)]
+/// Fewer samples: on lavapipe an interpreted frame of the larger scenes takes seconds.
+#[divan::bench(args = SCENES, sample_count = 3, sample_size = 1)]
 fn render_interpreted(bencher: divan::Bencher, name: &str) {
     let r = renderer();
     let c = compiled(name);

@@ -97,14 +97,16 @@ fn large_and_grouped_scenes_fit_the_register_file() {
 
 #[test]
 fn too_many_live_values_is_a_clean_error() {
-    // `t1 + (t2 + (t3 + ...))`: evaluated left to right, every term waits for the sum on
-    // its right, so MAX_REGISTERS + 8 terms keep more values live than there are registers.
+    // Terms t_i used twice: by a sum, then by a product. Whatever the order, every term
+    // computed for the sum stays live until the product reads it, so MAX_REGISTERS + 8
+    // terms need more registers than there are.
     let n = MAX_REGISTERS as usize + 8;
-    let mut expr = String::from("1.0");
-    for i in (0..n).rev() {
-        expr = format!("sin(p.x * {}.5) + ({expr})", i + 1);
-    }
-    let src = format!("scene = sdf(|p| length(p) - 1 + 0.001 * ({expr}), lipschitz: 2);\n");
+    let terms: Vec<String> = (0..n).map(|i| format!("sin(p.x * {}.5)", i + 1)).collect();
+    let sum = terms.join(" + ");
+    let product = terms.join(" * ");
+    let src = format!(
+        "scene = sdf(|p| length(p) - 1 + 0.001 * ({sum}) + 0.001 * ({product}), lipschitz: 2);\n"
+    );
     match encode(&program(&src)) {
         Err(EncodeError::TooLarge(msg)) => assert!(msg.contains("live"), "{msg}"),
         Ok(code) => panic!("encoded in {} registers", code.registers),

@@ -509,24 +509,43 @@ impl Encoder<'_> {
 /// The nodes `results` need, each after its arguments, in the order a depth-first walk from
 /// the results first needs them: a value is computed just before its first use, which keeps
 /// few registers live (the graph's own order computes, say, every operand of a 300-shape
-/// union before the first `min`).
+/// union before the first `min`). As in Sethi-Ullman numbering, the argument that needs the
+/// most registers is computed first, so a right-nested `min(a, min(b, ...))` holds one
+/// value at a time, not one per level.
 fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
+    // Registers each node needs (an estimate: shared arguments are counted on each path).
+    let mut need = vec![0u32; g.len()];
+    for (id, node) in g.nodes() {
+        let mut n: Vec<u32> = node.args().iter().map(|a| need[a.index()]).collect();
+        n.sort_unstable_by(|a, b| b.cmp(a));
+        need[id.index()] = n
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + i as u32)
+            .max()
+            .unwrap_or(0)
+            .max(1);
+    }
+    let ordered_args = |id: NodeId| {
+        let mut a: Vec<NodeId> = g.node(id).args().to_vec();
+        a.sort_by_key(|x| std::cmp::Reverse(need[x.index()]));
+        a
+    };
     let mut seen = vec![false; g.len()];
     let mut order = Vec::new();
-    let mut stack: Vec<(NodeId, usize)> = Vec::new();
+    let mut stack: Vec<(NodeId, Vec<NodeId>, usize)> = Vec::new();
     for &r in results {
         if seen[r.index()] {
             continue;
         }
         seen[r.index()] = true;
-        stack.push((r, 0));
-        while let Some((id, next)) = stack.pop() {
-            let args = g.node(id).args();
+        stack.push((r, ordered_args(r), 0));
+        while let Some((id, args, next)) = stack.pop() {
             if let Some(&a) = args.get(next) {
-                stack.push((id, next + 1));
+                stack.push((id, args, next + 1));
                 if !seen[a.index()] {
                     seen[a.index()] = true;
-                    stack.push((a, 0));
+                    stack.push((a, ordered_args(a), 0));
                 }
             } else {
                 order.push(id);

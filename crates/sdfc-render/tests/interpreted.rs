@@ -124,6 +124,10 @@ fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usiz
         "{name}: {flips} pixels flip between hit and miss"
     );
     assert!(
+        outliers <= path_sensitive,
+        "{name}: {outliers} hit pixels beyond the depth or normal tolerance"
+    );
+    assert!(
         worst_depth <= DEPTH_TOLERANCE,
         "{name}: depth differs by {worst_depth:e}"
     );

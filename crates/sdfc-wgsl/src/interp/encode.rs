@@ -19,7 +19,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fmt::{self, Write};
 
 /// Registers of the interpreter's register file (`MAX_REGISTERS` in the shader).
-pub const MAX_REGISTERS: u32 = 64;
+pub const MAX_REGISTERS: u32 = 128;
 /// Entries of the constant pool an instruction can name (a 16-bit immediate).
 pub const MAX_CONSTANTS: usize = 1 << 16;
 /// Instructions of one program (distance and material together).
@@ -326,7 +326,7 @@ impl Encoder<'_> {
             let v = match node.op {
                 Op::Call { func, result } => {
                     let key = (func, node.args()[0]);
-                    if !inlined.contains_key(&key) {
+                    if let std::collections::btree_map::Entry::Vacant(slot) = inlined.entry(key) {
                         let Some(group) = self.program.groups.get(func as usize) else {
                             return Err(unsupported(format!("a call of missing group {func}")));
                         };
@@ -339,7 +339,7 @@ impl Encoder<'_> {
                             nodes.push(n);
                         }
                         let out = self.func(c, group, &nodes, args[0], depth + 1)?;
-                        inlined.insert(key, want.into_iter().zip(out).collect());
+                        slot.insert(want.into_iter().zip(out).collect());
                     }
                     inlined[&key][&result]
                 }

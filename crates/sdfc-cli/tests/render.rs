@@ -212,9 +212,7 @@ fn interpreted_reports_input_errors_as_the_specialised_path() {
     assert!(run.stderr.contains("sphere"), "{}", run.describe());
     // A scene beyond the interpreter's register file: an input error with the way out.
     // Terms used by a sum and then by a product: all live at once (see sdfc-wgsl's tests).
-    let terms: Vec<String> = (0..140)
-        .map(|i| format!("sin(p.x * {}.5)", i + 1))
-        .collect();
+    let terms: Vec<String> = (0..72).map(|i| format!("sin(p.x * {}.5)", i + 1)).collect();
     let expr = format!("({}) + ({})", terms.join(" + "), terms.join(" * "));
     let big = t.write(
         "big.sdf",

@@ -19,7 +19,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fmt::{self, Write};
 
 /// Registers of the interpreter's register file (`MAX_REGISTERS` in the shader).
-pub const MAX_REGISTERS: u32 = 128;
+pub const MAX_REGISTERS: u32 = 64;
 /// Entries of the constant pool an instruction can name (a 16-bit immediate).
 pub const MAX_CONSTANTS: usize = 1 << 16;
 /// Instructions of one program (distance and material together).

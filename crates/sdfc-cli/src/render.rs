@@ -31,8 +31,8 @@ pub struct Args {
     /// normal (world space, 0 on a miss) or steps (march count)
     #[arg(long, value_name = "depth|normal|steps", value_parser = parse_aov)]
     aov: Option<AovKind>,
-    /// Render with the generic interpreted marcher instead of the specialised shader (not
-    /// built yet: exits with status 2)
+    /// Render with the generic interpreted marcher: one fixed shader that reads the scene as
+    /// bytecode, instead of a shader specialised to the scene (the same picture, slower)
     #[arg(long)]
     interpreted: bool,
     /// Also render the f64 CPU reference and print the GPU frame's error against it (depth,
@@ -170,13 +170,6 @@ pub fn run(a: Args) -> Outcome {
             return Outcome::EnvError;
         }
     }
-    if a.interpreted {
-        eprintln!(
-            "sdfc: `render --interpreted` (the generic interpreted marcher) is not built yet; \
-             render without it to use the specialised shader"
-        );
-        return Outcome::EnvError;
-    }
     if !a.time.is_finite() {
         eprintln!("error: --time must be finite, found {}", a.time);
         return Outcome::EnvError;
@@ -201,7 +194,12 @@ pub fn run(a: Args) -> Outcome {
         params,
         aovs: a.aov.is_some() || a.compare,
     };
-    let frame = match renderer.render(&compiled, &opts) {
+    let frame = if a.interpreted {
+        renderer.render_interpreted(compiled.program(), &opts)
+    } else {
+        renderer.render(&compiled, &opts)
+    };
+    let frame = match frame {
         Ok(f) => f,
         Err(e) => return render_failure(&e),
     };

@@ -2,7 +2,9 @@
 //! a 300-shape flat union) at 160x120. Before divan's wall-clock table it prints, per scene,
 //! the adapter, the device time of the compute pass (timestamp queries, mean of several
 //! frames) and the mean march steps per pixel, over all pixels and over the pixels whose ray
-//! hits (from the steps AOV).
+//! hits (from the steps AOV); then the same frames from the interpreted marcher
+//! (`render_interpreted`, bytecode encoded once outside the timing, as a live editor would
+//! after an edit) and its time as a ratio to the specialised shader's, measured in this run.
 //!
 //! `cargo bench -p sdfc-render --bench render`
 
@@ -99,7 +101,81 @@ fn main() {
         );
     }
     println!();
+    println!("interpreted marcher against the specialised shader (same frames, same run):");
+    println!(
+        "{:<16} {:>14} {:>14} {:>14} {:>14} {:>8}",
+        "scene", "specialised", "interpreted", "spec. wall", "interp. wall", "ratio"
+    );
+    for name in SCENES {
+        let c = compiled(name);
+        let code = match sdfc_wgsl::interp::encode::encode(c.program()) {
+            Ok(code) => code,
+            Err(e) => {
+                println!("{name:<16} not interpreted: {e}");
+                continue;
+            }
+        };
+        r.render(&c, &options()).expect("render");
+        r.render_bytecode(c.program(), &code, &options())
+            .expect("render");
+        let frames = 3;
+        let (mut spec, mut interp) = (Timing::default(), Timing::default());
+        // Interleaved, so a change in the machine's load hits both alike.
+        for _ in 0..frames {
+            spec.add(&r.render(&c, &options()).expect("render"));
+            interp.add(
+                &r.render_bytecode(c.program(), &code, &options())
+                    .expect("render"),
+            );
+        }
+        let (s, i) = (spec.best(), interp.best());
+        println!(
+            "{name:<16} {:>14} {:>14} {:>14} {:>14} {:>7.2}x",
+            spec.device_text(frames),
+            interp.device_text(frames),
+            format!("{:.3?}", spec.wall / frames),
+            format!("{:.3?}", interp.wall / frames),
+            i.as_secs_f64() / s.as_secs_f64()
+        );
+    }
+    println!("(ratio: interpreted / specialised, device time where the device has timestamps, else wall time)");
+    println!();
     divan::main();
+}
+
+/// Summed times of several frames.
+#[derive(Default)]
+struct Timing {
+    device: Duration,
+    wall: Duration,
+    timed: bool,
+    frames: u32,
+}
+
+impl Timing {
+    fn add(&mut self, f: &sdfc_render::Frame) {
+        self.timed = (self.frames == 0 || self.timed) && f.device_time.is_some();
+        self.device += f.device_time.unwrap_or_default();
+        self.wall += f.wall_time;
+        self.frames += 1;
+    }
+
+    /// The total the ratio uses: device time if every frame had it, else wall time.
+    fn best(&self) -> Duration {
+        if self.timed {
+            self.device
+        } else {
+            self.wall
+        }
+    }
+
+    fn device_text(&self, frames: u32) -> String {
+        if self.timed {
+            format!("{:.3?}", self.device / frames)
+        } else {
+            "n/a".into()
+        }
+    }
 }
 
 /// Wall time of a whole frame: upload, dispatch, readback (the pipeline is cached).
@@ -109,4 +185,21 @@ fn render(bencher: divan::Bencher, name: &str) {
     let c = compiled(name);
     r.render(&c, &options()).expect("render");
     bencher.bench_local(|| r.render(&c, &options()).expect("render"));
+}
+
+/// Wall time of a whole interpreted frame (the bytecode encoded once, outside the loop).
+/// Fewer samples: on lavapipe an interpreted frame of the larger scenes takes seconds.
+#[divan::bench(args = SCENES, sample_count = 3, sample_size = 1)]
+fn render_interpreted(bencher: divan::Bencher, name: &str) {
+    let r = renderer();
+    let c = compiled(name);
+    let Ok(code) = sdfc_wgsl::interp::encode::encode(c.program()) else {
+        return; // beyond the interpreter's limits (the table above says so)
+    };
+    r.render_bytecode(c.program(), &code, &options())
+        .expect("render");
+    bencher.bench_local(|| {
+        r.render_bytecode(c.program(), &code, &options())
+            .expect("render")
+    });
 }

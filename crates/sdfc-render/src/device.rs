@@ -40,6 +40,8 @@ pub(crate) enum Kind {
     Render,
     /// The point-evaluation shader: entry `eval_main`, uniform + read-only + read-write.
     Eval,
+    /// The interpreted marcher: the render interface plus the read-only bytecode and data.
+    Interpreted,
 }
 
 pub(crate) struct CachedPipeline {
@@ -70,6 +72,8 @@ pub struct Renderer {
     pub(crate) render_bind_layout: wgpu::BindGroupLayout,
     eval_layout: wgpu::PipelineLayout,
     pub(crate) eval_bind_layout: wgpu::BindGroupLayout,
+    interp_layout: wgpu::PipelineLayout,
+    pub(crate) interp_bind_layout: wgpu::BindGroupLayout,
     pipelines: Mutex<HashMap<u64, Vec<Arc<CachedPipeline>>>>,
     compilations: AtomicUsize,
     sink: Arc<ErrorSink>,
@@ -131,22 +135,32 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
+/// The bindings: uniform, storage (read-only where `read_only_input`), read-write storage,
+/// and `extra_inputs` more read-only storage buffers.
 fn layouts(
     device: &wgpu::Device,
     read_only_input: bool,
+    extra_inputs: u32,
 ) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+    let mut entries = vec![
+        buffer_entry(0, wgpu::BufferBindingType::Uniform),
+        buffer_entry(
+            1,
+            wgpu::BufferBindingType::Storage {
+                read_only: read_only_input,
+            },
+        ),
+        buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: false }),
+    ];
+    for i in 0..extra_inputs {
+        entries.push(buffer_entry(
+            3 + i,
+            wgpu::BufferBindingType::Storage { read_only: true },
+        ));
+    }
     let bind = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sdfc bindings"),
-        entries: &[
-            buffer_entry(0, wgpu::BufferBindingType::Uniform),
-            buffer_entry(
-                1,
-                wgpu::BufferBindingType::Storage {
-                    read_only: read_only_input,
-                },
-            ),
-            buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: false }),
-        ],
+        entries: &entries,
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("sdfc layout"),
@@ -280,8 +294,9 @@ impl Renderer {
             });
         }
         let scopes = Scopes::push(&device);
-        let (render_bind_layout, render_layout) = layouts(&device, false);
-        let (eval_bind_layout, eval_layout) = layouts(&device, true);
+        let (render_bind_layout, render_layout) = layouts(&device, false, 0);
+        let (eval_bind_layout, eval_layout) = layouts(&device, true, 0);
+        let (interp_bind_layout, interp_layout) = layouts(&device, false, 2);
         let errors = scopes.pop();
         if !errors.is_empty() {
             return Err(RenderError::Device(errors.join("; ")));
@@ -296,6 +311,8 @@ impl Renderer {
             render_bind_layout,
             eval_layout,
             eval_bind_layout,
+            interp_layout,
+            interp_bind_layout,
             pipelines: Mutex::new(HashMap::new()),
             compilations: AtomicUsize::new(0),
             sink,
@@ -386,6 +403,7 @@ impl Renderer {
         let (layout, entry) = match kind {
             Kind::Render => (&self.render_layout, "main"),
             Kind::Eval => (&self.eval_layout, "eval_main"),
+            Kind::Interpreted => (&self.interp_layout, "main"),
         };
         self.compilations.fetch_add(1, Ordering::Relaxed);
         let scopes = Scopes::push(&self.device);

@@ -28,13 +28,20 @@ pub enum RenderError {
     Output { path: PathBuf, message: String },
     /// An AOV was asked of a frame rendered without them.
     NoAovs,
+    /// The interpreted marcher cannot run the scene: beyond its limits (an input error,
+    /// like a setting above its documented limit) or an operation it has no opcode for.
+    Interpreter(sdfc_wgsl::interp::encode::EncodeError),
 }
 
 impl RenderError {
     /// True where the user's input is at fault (params), false for environment problems
     /// (device, files) and bugs.
     pub fn is_input_error(&self) -> bool {
-        matches!(self, RenderError::Param(_))
+        matches!(
+            self,
+            RenderError::Param(_)
+                | RenderError::Interpreter(sdfc_wgsl::interp::encode::EncodeError::TooLarge(_))
+        )
     }
 }
 
@@ -59,6 +66,7 @@ impl fmt::Display for RenderError {
                 write!(f, "cannot write {}: {message}", path.display())
             }
             RenderError::NoAovs => f.write_str("the frame was rendered without AOVs"),
+            RenderError::Interpreter(e) => write!(f, "{e}"),
         }
     }
 }

@@ -38,6 +38,12 @@
 //! out of memory or is lost, becomes a [`RenderError`], never a panic. Image sizes are checked
 //! against the device's limits (buffer sizes, dispatch size) before anything is submitted.
 //!
+//! # The interpreted marcher
+//!
+//! [`Renderer::render_interpreted`] renders the same picture from one fixed shader that reads
+//! the scene as bytecode (`sdfc_wgsl::interp`): the pipeline is compiled on the first call
+//! and reused for every scene after it.
+//!
 //! # Outputs
 //!
 //! [`output`] writes PNG (colour), OpenEXR (32-bit float, ZIP compression: lossless) and NumPy
@@ -46,6 +52,7 @@
 mod device;
 mod error;
 mod eval;
+mod interp;
 pub mod output;
 mod params;
 mod render;

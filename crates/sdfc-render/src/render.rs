@@ -125,10 +125,35 @@ impl Renderer {
     ) -> Result<Frame, RenderError> {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
-        // A lost device fails at once, before any work is recorded on it.
+        // A lost device fails at once, before a pipeline is built on it.
         self.check_health()?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
         let pipeline = self.pipeline(Kind::Render, wgsl)?;
+        let uniform = params::uniform_bytes(header(opts), &params);
+        self.dispatch(
+            &pipeline.pipeline,
+            &self.render_bind_layout,
+            &uniform,
+            &[],
+            opts,
+            (gx, gy),
+        )
+    }
+
+    /// Runs a render-interface pipeline over the image and reads the results back: the
+    /// uniform at binding 0, colour and AOVs at 1 and 2, `inputs` (read-only storage) from
+    /// binding 3 on.
+    pub(crate) fn dispatch(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        layout: &wgpu::BindGroupLayout,
+        uniform_bytes: &[u8],
+        inputs: &[(&str, &[u8])],
+        opts: &RenderOptions,
+        (gx, gy): (u32, u32),
+    ) -> Result<Frame, RenderError> {
+        // A lost device fails at once, before any work is recorded on it.
+        self.check_health()?;
         let pixels = opts.width as u64 * opts.height as u64;
         let color_size = pixels * COLOR_BYTES;
         let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
@@ -137,17 +162,13 @@ impl Renderer {
         let uniform = upload(
             self,
             "sdfc frame",
-            &params::uniform_bytes(
-                [
-                    opts.width,
-                    opts.height,
-                    opts.time.to_bits(),
-                    u32::from(opts.aovs),
-                ],
-                &params,
-            ),
+            uniform_bytes,
             wgpu::BufferUsages::UNIFORM,
         );
+        let input_buffers: Vec<wgpu::Buffer> = inputs
+            .iter()
+            .map(|(label, bytes)| upload(self, label, bytes, wgpu::BufferUsages::STORAGE))
+            .collect();
         let color = storage(&self.device, "sdfc colour", color_size);
         let aov = storage(&self.device, "sdfc aovs", aov_size);
         let color_read = readback(&self.device, "sdfc colour read", color_size);
@@ -155,23 +176,30 @@ impl Renderer {
             .aovs
             .then(|| readback(&self.device, "sdfc aovs read", aov_size));
         let timer = Timer::new(self);
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: color.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: aov.as_entire_binding(),
+            },
+        ];
+        for (i, b) in input_buffers.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 3 + i as u32,
+                resource: b.as_entire_binding(),
+            });
+        }
         let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sdfc frame bindings"),
-            layout: &self.render_bind_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: color.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: aov.as_entire_binding(),
-                },
-            ],
+            layout,
+            entries: &entries,
         });
         let mut encoder = self
             .device
@@ -183,7 +211,7 @@ impl Renderer {
                 label: Some("sdfc march"),
                 timestamp_writes: timer.as_ref().map(|t| t.writes()),
             });
-            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(gx, gy, 1);
         }
@@ -221,7 +249,12 @@ impl Renderer {
     }
 
     /// Checks an image size against the device's limits; returns the dispatch size.
-    fn check_size(&self, width: u32, height: u32, aovs: bool) -> Result<(u32, u32), RenderError> {
+    pub(crate) fn check_size(
+        &self,
+        width: u32,
+        height: u32,
+        aovs: bool,
+    ) -> Result<(u32, u32), RenderError> {
         if width == 0 || height == 0 {
             return Err(RenderError::ImageSize(format!(
                 "the image size {width}x{height} is empty"
@@ -298,6 +331,16 @@ pub(crate) fn read_bytes(buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> 
     drop(view);
     buffer.unmap();
     Ok(bytes)
+}
+
+/// The uniform header both render interfaces start with: size, time, flags (bit 0: AOVs).
+pub(crate) fn header(opts: &RenderOptions) -> [u32; 4] {
+    [
+        opts.width,
+        opts.height,
+        opts.time.to_bits(),
+        u32::from(opts.aovs),
+    ]
 }
 
 /// `(normal, depth), (steps, 0, 0, 0)` per pixel; depth -1 means a miss.

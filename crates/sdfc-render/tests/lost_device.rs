@@ -35,6 +35,11 @@ fn every_call_after_a_device_loss_fails_with_device_lost() {
         matches!(eval, Err(RenderError::DeviceLost(_))),
         "eval after the loss: {eval:?}"
     );
+    let interpreted = r.render_interpreted(scene.program(), &opts);
+    assert!(
+        matches!(interpreted, Err(RenderError::DeviceLost(_))),
+        "interpreted render after the loss: {interpreted:?}"
+    );
     let other = compile("box", "scene = box(1);");
     let fresh = r.render(&other, &opts);
     assert!(

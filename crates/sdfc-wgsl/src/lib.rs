@@ -32,6 +32,7 @@
 
 pub mod eval_shader;
 pub mod func;
+pub mod interp;
 pub mod literal;
 pub mod marcher;
 pub mod module;

@@ -63,7 +63,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
 }
 
 /// The camera basis of spec section 8, computed in f64 and rounded once.
-fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32) {
+pub(crate) fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32) {
     let c = &scene.camera;
     let v = |a: [f32; 3]| a.map(|x| x as f64);
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];

@@ -1,0 +1,685 @@
+//! Encodes a compiled program as register-machine bytecode for the interpreter shader.
+//!
+//! Each SSA node becomes (at most) one instruction `[opcode, dst | imm << 16, a0 | a1 << 16,
+//! a2 | a3 << 16]` over `vec4<f32>` registers. Group calls are inlined (once per group and
+//! point, with only the results the caller uses). A float or boolean is kept splatted in all
+//! four components (booleans as 1.0 / 0.0), so component-wise opcodes broadcast scalars over
+//! vectors for free; a mat3 is three registers, its columns, and never an operand of its own.
+//! Registers are reused after the last read of their value (linear scan over the straight
+//! line code); register 0 holds the point `p` throughout.
+
+use super::opcodes::{builtin_opcode, helper_opcode, Opcode};
+use sdfc_ir::func::Func;
+use sdfc_ir::graph::{Graph, NodeId};
+use sdfc_ir::ops::{Builtin, Op};
+use sdfc_ir::types::Ty;
+use sdfc_ir::value::Value;
+use sdfc_ir::Program;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt::{self, Write};
+
+/// Registers of the interpreter's register file (`MAX_REGISTERS` in the shader).
+pub const MAX_REGISTERS: u32 = 64;
+/// Entries of the constant pool an instruction can name (a 16-bit immediate).
+pub const MAX_CONSTANTS: usize = 1 << 16;
+/// Instructions of one program (distance and material together).
+pub const MAX_INSTRUCTIONS: usize = 1 << 20;
+/// Nesting of group calls inlined into one another.
+const MAX_INLINE_DEPTH: usize = 64;
+
+/// Why a program cannot be encoded.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EncodeError {
+    /// The scene needs more than the interpreter's documented limits (registers, constants,
+    /// instructions): render it with the specialised shader.
+    TooLarge(String),
+    /// An operation the interpreter has no opcode for (a helper added to the compiler but not
+    /// yet to the interpreter): a gap in sdfc, not a mistake in the scene.
+    Unsupported(String),
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EncodeError::TooLarge(s) => write!(
+                f,
+                "the scene is too large for the interpreted marcher: {s} (render it without --interpreted)"
+            ),
+            EncodeError::Unsupported(s) => {
+                write!(f, "the interpreted marcher cannot run this scene: {s}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for EncodeError {}
+
+/// A program as bytecode: one instruction list holding the distance function, then the
+/// material function, each ending in `ret`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bytecode {
+    /// `[opcode, dst | imm << 16, a0 | a1 << 16, a2 | a3 << 16]` per instruction.
+    pub code: Vec<[u32; 4]>,
+    /// The constant pool, one `vec4<f32>` each (scalars splatted).
+    pub consts: Vec<[f32; 4]>,
+    /// Instruction range `[start, end)` of the distance function (`ret d`).
+    pub distance: [u32; 2],
+    /// Instruction range of the material function (`ret albedo, phong`).
+    pub material: [u32; 2],
+    /// Registers the code uses (at most [`MAX_REGISTERS`]).
+    pub registers: u32,
+}
+
+/// An SSA value in virtual registers: a vector (or scalar) or a matrix's three columns.
+#[derive(Clone, Copy, Debug)]
+enum Val {
+    Reg(u32),
+    Mat([u32; 3]),
+    /// An input loaded where it is used (`const`, `param`, `time`), not where the graph has
+    /// it: graphs list constants early, and loading them all up front would keep hundreds of
+    /// registers busy in a large union.
+    Load(Opcode, u32),
+}
+
+/// A load is reused while it is at most this many instructions old, else loaded again.
+const RELOAD_AFTER: usize = 16;
+
+/// An instruction over virtual registers (infinitely many, each written once).
+struct VIns {
+    op: Opcode,
+    dst: Option<u32>,
+    args: Vec<u32>,
+    imm: u32,
+}
+
+/// Encoding state shared by the two functions: the constant pool.
+struct Encoder<'p> {
+    program: &'p Program,
+    consts: Vec<[f32; 4]>,
+    const_index: HashMap<[u32; 4], u32>,
+}
+
+/// One function being encoded: its virtual instructions.
+struct Chunk {
+    ins: Vec<VIns>,
+    next: u32,
+    /// The latest load of each input: its register and the instruction it sits at.
+    loads: HashMap<(Opcode, u32), (u32, usize)>,
+}
+
+/// The point's virtual (and physical) register.
+const POINT: u32 = 0;
+
+impl Chunk {
+    fn new() -> Chunk {
+        Chunk {
+            ins: Vec::new(),
+            next: POINT + 1,
+            loads: HashMap::new(),
+        }
+    }
+
+    /// A value in a register: loads are emitted here, or reused while recent.
+    fn materialize(&mut self, v: Val) -> Val {
+        let Val::Load(op, imm) = v else {
+            return v;
+        };
+        if let Some(&(r, at)) = self.loads.get(&(op, imm)) {
+            if self.ins.len() - at <= RELOAD_AFTER {
+                return Val::Reg(r);
+            }
+        }
+        let at = self.ins.len();
+        let r = self.emit(op, &[], imm);
+        self.loads.insert((op, imm), (r, at));
+        Val::Reg(r)
+    }
+
+    fn emit(&mut self, op: Opcode, args: &[u32], imm: u32) -> u32 {
+        let dst = self.next;
+        self.next += 1;
+        self.ins.push(VIns {
+            op,
+            dst: Some(dst),
+            args: args.to_vec(),
+            imm,
+        });
+        dst
+    }
+}
+
+/// Encodes a program; fails cleanly on an operation without an opcode or a scene beyond
+/// the limits.
+pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
+    let mut e = Encoder {
+        program,
+        consts: Vec::new(),
+        const_index: HashMap::new(),
+    };
+    let mut code = Vec::new();
+    let mut registers = 1;
+
+    let mut chunk = Chunk::new();
+    let d = e.func(
+        &mut chunk,
+        &program.distance,
+        &program.distance.results,
+        Val::Reg(POINT),
+        0,
+    )?;
+    let d = reg(d[0], "the distance")?;
+    chunk.ins.push(VIns {
+        op: Opcode::Ret,
+        dst: None,
+        args: vec![d],
+        imm: 0,
+    });
+    let start = code.len() as u32;
+    registers = registers.max(allocate(&chunk.ins, &mut code)?);
+    let distance = [start, code.len() as u32];
+
+    let mut chunk = Chunk::new();
+    let m = e.func(
+        &mut chunk,
+        &program.material,
+        &program.material.results,
+        Val::Reg(POINT),
+        0,
+    )?;
+    if m.len() != 2 {
+        return Err(EncodeError::Unsupported(format!(
+            "the material function returns {} values, not 2",
+            m.len()
+        )));
+    }
+    let albedo = reg(m[0], "the albedo")?;
+    let phong = reg(m[1], "the phong coefficients")?;
+    chunk.ins.push(VIns {
+        op: Opcode::Ret,
+        dst: None,
+        args: vec![albedo, phong],
+        imm: 0,
+    });
+    let start = code.len() as u32;
+    registers = registers.max(allocate(&chunk.ins, &mut code)?);
+    let material = [start, code.len() as u32];
+
+    if code.len() > MAX_INSTRUCTIONS {
+        return Err(EncodeError::TooLarge(format!(
+            "{} instructions, at most {MAX_INSTRUCTIONS}",
+            code.len()
+        )));
+    }
+    Ok(Bytecode {
+        code,
+        consts: e.consts,
+        distance,
+        material,
+        registers,
+    })
+}
+
+fn reg(v: Val, what: &str) -> Result<u32, EncodeError> {
+    match v {
+        Val::Reg(r) => Ok(r),
+        Val::Mat(_) => Err(EncodeError::Unsupported(format!("{what} is a matrix"))),
+        Val::Load(..) => Err(unsupported(format!("{what} was not loaded"))),
+    }
+}
+
+fn unsupported(what: impl fmt::Display) -> EncodeError {
+    EncodeError::Unsupported(what.to_string())
+}
+
+impl Encoder<'_> {
+    /// The pool index of a constant, splatted if scalar.
+    fn constant(&mut self, v: [f32; 4]) -> Result<u32, EncodeError> {
+        let key = v.map(f32::to_bits);
+        if let Some(&i) = self.const_index.get(&key) {
+            return Ok(i);
+        }
+        if self.consts.len() >= MAX_CONSTANTS {
+            return Err(EncodeError::TooLarge(format!(
+                "more than {MAX_CONSTANTS} distinct constants"
+            )));
+        }
+        let i = self.consts.len() as u32;
+        self.consts.push(v);
+        self.const_index.insert(key, i);
+        Ok(i)
+    }
+
+    fn load_const(&mut self, c: &mut Chunk, v: &Value<f32>) -> Result<Val, EncodeError> {
+        let lanes = |x: &[f32]| {
+            let mut a = [0.0; 4];
+            a[..x.len()].copy_from_slice(x);
+            a
+        };
+        let vec = match *v {
+            Value::F(x) => [x; 4],
+            Value::B(b) => [if b { 1.0 } else { 0.0 }; 4],
+            Value::V2(x) => lanes(&x),
+            Value::V3(x) => lanes(&x),
+            Value::V4(x) => x,
+            Value::M3(m) => {
+                let mut cols = [0; 3];
+                for (col, m) in cols.iter_mut().zip(m) {
+                    let i = self.constant(lanes(&m))?;
+                    *col = c.emit(Opcode::Const, &[], i);
+                }
+                return Ok(Val::Mat(cols));
+            }
+        };
+        Ok(Val::Load(Opcode::Const, self.constant(vec)?))
+    }
+
+    /// Encodes the nodes of `f` that `results` need, with `point` as `Op::Point`; returns the
+    /// results' values.
+    fn func(
+        &mut self,
+        c: &mut Chunk,
+        f: &Func,
+        results: &[NodeId],
+        point: Val,
+        depth: usize,
+    ) -> Result<Vec<Val>, EncodeError> {
+        if depth > MAX_INLINE_DEPTH {
+            return Err(EncodeError::TooLarge(format!(
+                "group calls nested deeper than {MAX_INLINE_DEPTH}"
+            )));
+        }
+        let g = &f.graph;
+        let mut live = vec![false; g.len()];
+        for r in results {
+            if let Some(l) = live.get_mut(r.index()) {
+                *l = true;
+            } else {
+                return Err(unsupported("a result outside its function"));
+            }
+        }
+        for i in (0..g.len()).rev() {
+            if live[i] {
+                for a in g.node(NodeId(i as u32)).args() {
+                    live[a.index()] = true;
+                }
+            }
+        }
+        // Which results each (group, point) call site needs, so a group is inlined once.
+        let mut wanted: BTreeMap<(u32, NodeId), BTreeSet<u8>> = BTreeMap::new();
+        for (id, node) in g.nodes() {
+            if let (true, Op::Call { func, result }) = (live[id.index()], node.op) {
+                wanted
+                    .entry((func, node.args()[0]))
+                    .or_default()
+                    .insert(result);
+            }
+        }
+        let mut inlined: BTreeMap<(u32, NodeId), BTreeMap<u8, Val>> = BTreeMap::new();
+        let mut vals: Vec<Option<Val>> = vec![None; g.len()];
+        for id in demand_order(g, results) {
+            let node = g.node(id);
+            let mut args = Vec::with_capacity(node.args().len());
+            for a in node.args() {
+                let v = vals[a.index()].ok_or_else(|| unsupported("a node before its argument"))?;
+                args.push(c.materialize(v));
+            }
+            let v = match node.op {
+                Op::Call { func, result } => {
+                    let key = (func, node.args()[0]);
+                    if let std::collections::btree_map::Entry::Vacant(slot) = inlined.entry(key) {
+                        let Some(group) = self.program.groups.get(func as usize) else {
+                            return Err(unsupported(format!("a call of missing group {func}")));
+                        };
+                        let want: Vec<u8> = wanted[&key].iter().copied().collect();
+                        let mut nodes = Vec::new();
+                        for &r in &want {
+                            let Some(&n) = group.results.get(r as usize) else {
+                                return Err(unsupported(format!("result {r} of group {func}")));
+                            };
+                            nodes.push(n);
+                        }
+                        let out = self.func(c, group, &nodes, args[0], depth + 1)?;
+                        slot.insert(want.into_iter().zip(out).collect());
+                    }
+                    inlined[&key][&result]
+                }
+                _ => self.node(c, g, id, &args, point)?,
+            };
+            vals[id.index()] = Some(v);
+        }
+        let mut out = Vec::with_capacity(results.len());
+        for r in results {
+            let v = vals[r.index()].ok_or_else(|| unsupported("a result that was not computed"))?;
+            out.push(c.materialize(v));
+        }
+        Ok(out)
+    }
+
+    /// One node (other than a call).
+    fn node(
+        &mut self,
+        c: &mut Chunk,
+        g: &Graph,
+        id: NodeId,
+        a: &[Val],
+        point: Val,
+    ) -> Result<Val, EncodeError> {
+        let node = g.node(id);
+        let arg_ty = |i: usize| g.ty(node.args()[i]);
+        let regs = |what: &str| -> Result<Vec<u32>, EncodeError> {
+            a.iter().map(|v| reg(*v, what)).collect()
+        };
+        let simple = |c: &mut Chunk, op: Opcode| -> Result<Val, EncodeError> {
+            let r = regs(op.mnemonic())?;
+            Ok(Val::Reg(c.emit(op, &r, 0)))
+        };
+        match node.op {
+            Op::Const(k) => self.load_const(c, &k.to_value()),
+            Op::Point => Ok(point),
+            Op::Time => Ok(Val::Load(Opcode::Time, 0)),
+            Op::Param(i) => Ok(Val::Load(Opcode::Param, u32::from(i))),
+            // As in the WGSL emitter: only reachable if a lambda argument escaped substitution.
+            Op::LambdaArg { .. } => self.load_const(c, &sdfc_ir::eval::zero_of(node.ty)),
+            Op::Call { .. } => Err(unsupported("a nested call")),
+            Op::Neg => simple(c, Opcode::Neg),
+            Op::Add => simple(c, Opcode::Add),
+            Op::Sub => simple(c, Opcode::Sub),
+            Op::Div => simple(c, Opcode::Div),
+            Op::Mod => simple(c, Opcode::Mod),
+            Op::Lt => simple(c, Opcode::Lt),
+            Op::Le => simple(c, Opcode::Le),
+            Op::Gt => simple(c, Opcode::Gt),
+            Op::Ge => simple(c, Opcode::Ge),
+            Op::Eq => simple(c, Opcode::Eq),
+            Op::Ne => simple(c, Opcode::Ne),
+            Op::Mul | Op::MatMul => match (a[0], a[1]) {
+                (Val::Reg(x), Val::Reg(y)) => Ok(Val::Reg(c.emit(Opcode::Mul, &[x, y], 0))),
+                (Val::Mat(m), Val::Reg(v)) if arg_ty(1) == Ty::Vec3 => {
+                    Ok(Val::Reg(c.emit(Opcode::Mat3Vec, &[m[0], m[1], m[2], v], 0)))
+                }
+                (Val::Mat(m), Val::Mat(n)) => {
+                    let cols = n.map(|col| c.emit(Opcode::Mat3Vec, &[m[0], m[1], m[2], col], 0));
+                    Ok(Val::Mat(cols))
+                }
+                _ => Err(unsupported("a matrix multiplied by a scalar")),
+            },
+            Op::Select => match (a[0], a[1], a[2]) {
+                (Val::Reg(x), Val::Reg(y), Val::Reg(z)) => {
+                    Ok(Val::Reg(c.emit(Opcode::Select, &[x, y, z], 0)))
+                }
+                (Val::Mat(x), Val::Mat(y), Val::Reg(z)) => {
+                    let cols = [0, 1, 2].map(|i| c.emit(Opcode::Select, &[x[i], y[i], z], 0));
+                    Ok(Val::Mat(cols))
+                }
+                _ => Err(unsupported("a select between a matrix and a vector")),
+            },
+            Op::MakeVec => {
+                if a.len() > 4 || (0..a.len()).any(|i| arg_ty(i) != Ty::F32) {
+                    return Err(unsupported("a vector built from vectors"));
+                }
+                simple(c, Opcode::MakeVec)
+            }
+            Op::Swizzle(s) => {
+                let x = reg(a[0], "a swizzle")?;
+                if arg_ty(0) == Ty::F32 {
+                    // A splat: the scalar is already in every lane.
+                    return Ok(Val::Reg(x));
+                }
+                let idx = s.indices();
+                // A scalar result is splatted like every scalar.
+                let lanes: [u8; 4] = if idx.len() == 1 {
+                    [idx[0]; 4]
+                } else {
+                    [0, 1, 2, 3].map(|i| idx.get(i).copied().unwrap_or(0))
+                };
+                let imm = lanes
+                    .iter()
+                    .enumerate()
+                    .fold(0u32, |acc, (i, &l)| acc | (u32::from(l & 3) << (2 * i)));
+                Ok(Val::Reg(c.emit(Opcode::Swizzle, &[x], imm)))
+            }
+            Op::MakeMat3 => Ok(Val::Mat([
+                reg(a[0], "a matrix column")?,
+                reg(a[1], "a matrix column")?,
+                reg(a[2], "a matrix column")?,
+            ])),
+            Op::Transpose => match a[0] {
+                Val::Mat(m) => {
+                    Ok(Val::Mat([0, 1, 2].map(|row| {
+                        c.emit(Opcode::MatRow, &[m[0], m[1], m[2]], row)
+                    })))
+                }
+                _ => Err(unsupported("a transpose of a vector")),
+            },
+            Op::Builtin(b) => {
+                let width = arg_ty(0).width();
+                let by_width = |ops: [Opcode; 3]| match width {
+                    2 => Some(ops[0]),
+                    3 => Some(ops[1]),
+                    4 => Some(ops[2]),
+                    _ => None,
+                };
+                let op = match b {
+                    Builtin::Length if width == 1 => Some(Opcode::Abs),
+                    Builtin::Length => {
+                        by_width([Opcode::Length2, Opcode::Length3, Opcode::Length4])
+                    }
+                    Builtin::Distance => {
+                        let r = regs("distance")?;
+                        let diff = c.emit(Opcode::Sub, &r, 0);
+                        let op = if width == 1 {
+                            Some(Opcode::Abs)
+                        } else {
+                            by_width([Opcode::Length2, Opcode::Length3, Opcode::Length4])
+                        };
+                        let Some(op) = op else {
+                            return Err(unsupported("distance of this type"));
+                        };
+                        return Ok(Val::Reg(c.emit(op, &[diff], 0)));
+                    }
+                    Builtin::Dot => by_width([Opcode::Dot2, Opcode::Dot3, Opcode::Dot4]),
+                    Builtin::Normalize => {
+                        by_width([Opcode::Normalize2, Opcode::Normalize3, Opcode::Normalize4])
+                    }
+                    Builtin::Cross => (width == 3).then_some(Opcode::Cross),
+                    _ => builtin_opcode(b),
+                };
+                match op {
+                    Some(op) => simple(c, op),
+                    None => Err(unsupported(format!(
+                        "built-in `{}` on {:?}",
+                        b.name(),
+                        arg_ty(0)
+                    ))),
+                }
+            }
+            Op::Helper(h) => match helper_opcode(h) {
+                Some(op) if a.len() <= 4 => simple(c, op),
+                _ => Err(unsupported(format!("helper `{}` has no opcode", h.name()))),
+            },
+            #[allow(unreachable_patterns)] // operations added after the interpreter
+            _ => Err(unsupported(format!(
+                "operation {:?} has no opcode",
+                node.op
+            ))),
+        }
+    }
+}
+
+/// The nodes `results` need, each after its arguments, in the order a depth-first walk from
+/// the results first needs them: a value is computed just before its first use, which keeps
+/// few registers live (the graph's own order computes, say, every operand of a 300-shape
+/// union before the first `min`). As in Sethi-Ullman numbering, the argument that needs the
+/// most registers is computed first, so a right-nested `min(a, min(b, ...))` holds one
+/// value at a time, not one per level.
+fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
+    // Registers each node needs (an estimate: shared arguments are counted on each path).
+    let mut need = vec![0u32; g.len()];
+    for (id, node) in g.nodes() {
+        let mut n: Vec<u32> = node.args().iter().map(|a| need[a.index()]).collect();
+        n.sort_unstable_by(|a, b| b.cmp(a));
+        need[id.index()] = n
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + i as u32)
+            .max()
+            .unwrap_or(0)
+            .max(1);
+    }
+    let ordered_args = |id: NodeId| {
+        let mut a: Vec<NodeId> = g.node(id).args().to_vec();
+        a.sort_by_key(|x| std::cmp::Reverse(need[x.index()]));
+        a
+    };
+    let mut seen = vec![false; g.len()];
+    let mut order = Vec::new();
+    let mut stack: Vec<(NodeId, Vec<NodeId>, usize)> = Vec::new();
+    for &r in results {
+        if seen[r.index()] {
+            continue;
+        }
+        seen[r.index()] = true;
+        stack.push((r, ordered_args(r), 0));
+        while let Some((id, args, next)) = stack.pop() {
+            if let Some(&a) = args.get(next) {
+                stack.push((id, args, next + 1));
+                if !seen[a.index()] {
+                    seen[a.index()] = true;
+                    stack.push((a, ordered_args(a), 0));
+                }
+            } else {
+                order.push(id);
+            }
+        }
+    }
+    order
+}
+
+/// Maps virtual registers to physical ones (reused after their value's last read), appends
+/// the instructions to `code`; returns how many registers they use.
+fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> {
+    let mut last_use: HashMap<u32, usize> = HashMap::new();
+    for (i, x) in ins.iter().enumerate() {
+        for &a in &x.args {
+            last_use.insert(a, i);
+        }
+    }
+    let mut phys: HashMap<u32, u32> = HashMap::from([(POINT, POINT)]);
+    let mut free: BTreeSet<u32> = BTreeSet::new();
+    let mut used = POINT + 1;
+    for (i, x) in ins.iter().enumerate() {
+        let mut args = [0u32; 4];
+        for (slot, a) in args.iter_mut().zip(&x.args) {
+            *slot = *phys
+                .get(a)
+                .ok_or_else(|| unsupported("a register read before it is written"))?;
+        }
+        // Arguments read for the last time free their registers before the result takes
+        // one: the interpreter reads every argument before it writes.
+        for a in &x.args {
+            if *a != POINT && last_use.get(a) == Some(&i) {
+                if let Some(p) = phys.remove(a) {
+                    free.insert(p);
+                }
+            }
+        }
+        let dst = match x.dst {
+            Some(v) => {
+                let p = match free.pop_first() {
+                    Some(p) => p,
+                    None => {
+                        used += 1;
+                        used - 1
+                    }
+                };
+                if last_use.contains_key(&v) {
+                    phys.insert(v, p);
+                } else {
+                    free.insert(p);
+                }
+                p
+            }
+            None => 0,
+        };
+        if used > MAX_REGISTERS {
+            return Err(EncodeError::TooLarge(format!(
+                "more than {MAX_REGISTERS} values live at once"
+            )));
+        }
+        code.push([
+            x.op.code(),
+            dst | (x.imm << 16),
+            args[0] | (args[1] << 16),
+            args[2] | (args[3] << 16),
+        ]);
+    }
+    Ok(used)
+}
+
+impl Bytecode {
+    /// A readable listing, for goldens and debugging.
+    pub fn listing(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "registers: {}, constants: {}, instructions: {}",
+            self.registers,
+            self.consts.len(),
+            self.code.len()
+        );
+        for (i, c) in self.consts.iter().enumerate() {
+            let _ = writeln!(s, "c{i} = {c:?}");
+        }
+        for (name, [start, end]) in [("distance", self.distance), ("material", self.material)] {
+            let _ = writeln!(s, "{name}:");
+            for pc in start..end {
+                let [op, d, a01, a23] = self.code[pc as usize];
+                let op = Opcode::ALL.iter().find(|o| o.code() == op);
+                let (dst, imm) = (d & 0xffff, d >> 16);
+                let args = [a01 & 0xffff, a01 >> 16, a23 & 0xffff, a23 >> 16];
+                let Some(op) = op else {
+                    let _ = writeln!(s, "  {pc:4}: ?{}", self.code[pc as usize][0]);
+                    continue;
+                };
+                let n = arity(*op);
+                let regs: Vec<String> = args[..n].iter().map(|r| format!("r{r}")).collect();
+                let imm = match op {
+                    Opcode::Const => format!(" c{imm}"),
+                    Opcode::Param => format!(" #{imm}"),
+                    Opcode::Swizzle => format!(
+                        " .{}",
+                        (0..4)
+                            .map(|i| ['x', 'y', 'z', 'w'][((imm >> (2 * i)) & 3) as usize])
+                            .collect::<String>()
+                    ),
+                    Opcode::MatRow => format!(" row {imm}"),
+                    _ => String::new(),
+                };
+                let lhs = if *op == Opcode::Ret {
+                    String::new()
+                } else {
+                    format!("r{dst} = ")
+                };
+                let line = format!("  {pc:4}: {lhs}{}{imm} {}", op.mnemonic(), regs.join(" "));
+                let _ = writeln!(s, "{}", line.trim_end());
+            }
+        }
+        s
+    }
+}
+
+/// Register arguments an opcode reads (for listings; unused slots are 0).
+fn arity(op: Opcode) -> usize {
+    use Opcode::*;
+    match op {
+        Const | Param | Time => 0,
+        Ret => 2,
+        Neg | Swizzle | Abs | Sign | Floor | Ceil | Fract | Round | Sqrt | Exp | Log | Sin
+        | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4
+        | Normalize2 | Normalize3 | Normalize4 | Noise => 1,
+        Select | Clamp | Mix | Smoothstep | MatRow | SdRoundBox | SdTorus | SdCylinder
+        | RotateX | RotateY | RotateZ => 3,
+        MakeVec | Mat3Vec | SdCapsule => 4,
+        _ => 2,
+    }
+}

@@ -1,0 +1,159 @@
+//! The interpreter's per-frame inputs, laid out as `shaders/interpreter/interface.wgsl`
+//! declares them: the `Frame` uniform (image, time, camera, render settings, where things
+//! sit in the data buffer) and the data buffer (lights, params, constants).
+
+use super::encode::Bytecode;
+use crate::marcher::camera_basis;
+use sdfc_ir::scene::{Epsilon, LightKind, Normals, Shadows};
+use sdfc_ir::types::Ty;
+use sdfc_ir::Program;
+
+/// Bytes of the `Frame` uniform.
+pub const FRAME_BYTES: usize = 192;
+
+/// `Frame.switches` bit: `epsilon: pixel` (else the absolute `Frame.epsilon`).
+const SWITCH_EPSILON_PIXEL: u32 = 1;
+/// `Frame.switches` bit: exponential fog.
+const SWITCH_FOG: u32 = 2;
+
+/// Both buffers of one frame.
+pub struct FrameData {
+    /// The `Frame` uniform, [`FRAME_BYTES`] long.
+    pub uniform: Vec<u8>,
+    /// The `data` storage buffer: `array<vec4<f32>>`.
+    pub data: Vec<u8>,
+    /// The `code` storage buffer: `array<vec4<u32>>`.
+    pub code: Vec<u8>,
+}
+
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u(&mut self, x: u32) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn f(&mut self, x: f32) {
+        self.u(x.to_bits());
+    }
+    fn v3f(&mut self, v: [f32; 3], w: f32) {
+        for c in v {
+            self.f(c);
+        }
+        self.f(w);
+    }
+}
+
+/// The frame's buffers. `header` is `[width, height, time bits, flags]` as in the render
+/// shader's `Frame`; `params` holds each param's value in declaration order (float params
+/// are splatted here, as the interpreter keeps every scalar).
+pub fn frame_data(
+    program: &Program,
+    code: &Bytecode,
+    header: [u32; 4],
+    params: &[[f32; 4]],
+) -> FrameData {
+    let scene = &program.scene;
+    let r = &scene.render;
+    let (forward, right, up, tan_half) = camera_basis(scene);
+
+    // Data buffer: lights (2 entries each), params, constants.
+    let mut data: Vec<[f32; 4]> = Vec::new();
+    let lights_at = data.len() as u32;
+    for light in &scene.lights {
+        let (v, kind) = match light.kind {
+            LightKind::Directional { direction } => (direction.map(|x| -x), 0.0),
+            LightKind::Point { position } => (position, 1.0),
+        };
+        data.push([v[0], v[1], v[2], kind]);
+        let c = light.color.map(|c| c * light.intensity);
+        data.push([c[0], c[1], c[2], 0.0]);
+    }
+    let params_at = data.len() as u32;
+    for (i, v) in params.iter().enumerate() {
+        let float = scene.params.get(i).is_some_and(|d| d.ty == Ty::F32);
+        data.push(if float { [v[0]; 4] } else { *v });
+    }
+    let consts_at = data.len() as u32;
+    data.extend_from_slice(&code.consts);
+    if data.is_empty() {
+        data.push([0.0; 4]);
+    }
+
+    let mut w = Writer(Vec::with_capacity(FRAME_BYTES));
+    for h in header {
+        w.u(h);
+    }
+    w.v3f(scene.camera.position, tan_half);
+    w.v3f(forward, r.max_distance);
+    w.v3f(right, (1.0 / r.gamma as f64) as f32);
+    w.v3f(up, r.relaxation.max(1.0));
+    let epsilon = match r.epsilon {
+        Epsilon::Pixel => 0.0,
+        Epsilon::Absolute(e) => e,
+    };
+    w.v3f(r.background, epsilon);
+    let (fog_color, fog_density) = r.fog.map_or(([0.0; 3], 0.0), |f| (f.color, f.density));
+    w.v3f(fog_color, fog_density);
+    w.u(r.max_steps);
+    w.u(r.antialias);
+    w.u(match r.normals {
+        // Analytic normals are rejected by the compiler until they exist; as the
+        // specialised shader, fall back to the tetrahedron.
+        Normals::Tetrahedron | Normals::Analytic => 0,
+        Normals::Central => 1,
+        Normals::Forward => 2,
+    });
+    let (shadows, shadow_k) = match r.shadows {
+        Shadows::None => (0, 0.0),
+        Shadows::Hard => (1, 0.0),
+        Shadows::Soft(k) => (2, k),
+    };
+    w.u(shadows);
+    w.f(shadow_k);
+    let ao = r.ao.unwrap_or(sdfc_ir::scene::Ao {
+        samples: 0,
+        step: 0.0,
+        strength: 0.0,
+        falloff: 0.0,
+    });
+    w.u(if r.ao.is_some() { ao.samples } else { 0 });
+    w.f(ao.step);
+    w.f(ao.strength);
+    w.f(ao.falloff);
+    w.u(r.reflections);
+    w.u(scene.lights.len() as u32);
+    let mut switches = 0;
+    if r.epsilon == Epsilon::Pixel {
+        switches |= SWITCH_EPSILON_PIXEL;
+    }
+    if r.fog.is_some() {
+        switches |= SWITCH_FOG;
+    }
+    w.u(switches);
+    w.u(code.distance[0]);
+    w.u(code.distance[1]);
+    w.u(code.material[0]);
+    w.u(code.material[1]);
+    w.u(lights_at);
+    w.u(params_at);
+    w.u(consts_at);
+    w.u(0);
+    debug_assert_eq!(w.0.len(), FRAME_BYTES);
+
+    let data_bytes = data
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let code_bytes = code
+        .code
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    FrameData {
+        uniform: w.0,
+        data: data_bytes,
+        code: code_bytes,
+    }
+}

@@ -1,0 +1,115 @@
+//! The interpreted marcher's compile side: the shader validates, the opcode table and the
+//! WGSL switch agree, the encoder's output (golden) and its limits.
+
+use sdfc_ir::ops::Helper;
+use sdfc_wgsl::interp::encode::{encode, EncodeError, MAX_REGISTERS};
+use sdfc_wgsl::interp::{self, opcodes};
+
+fn program(src: &str) -> sdfc_ir::Program {
+    match sdfc_wgsl::compile(src, &Default::default()) {
+        Ok(c) => c.stages.program,
+        Err(_) => panic!("does not compile:\n{src}"),
+    }
+}
+
+fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn the_interpreter_shader_passes_naga() {
+    let wgsl = interp::emit();
+    if let Err(report) = sdfc_wgsl::validate::validate("interpreter.wgsl", &wgsl) {
+        panic!("{report}");
+    }
+    assert!(interp::shader().is_ok());
+    // Every variant part is in, under its own name.
+    for f in [
+        "fn scene_normal_central(",
+        "fn scene_normal_forward(",
+        "fn scene_normal_tetrahedron(",
+        "fn shadow_hard(",
+        "fn shadow_soft(",
+        "fn ambient_occlusion(",
+        "fn main(",
+    ] {
+        assert!(wgsl.contains(f), "missing {f}");
+    }
+}
+
+#[test]
+fn every_opcode_has_one_case_and_every_helper_an_opcode() {
+    for op in opcodes::Opcode::ALL {
+        let case = format!("case {}:", op.wgsl_name());
+        assert_eq!(
+            interp::INTERPRET.matches(&case).count(),
+            1,
+            "{case} in shaders/interpreter/interpret.wgsl"
+        );
+    }
+    let codes: std::collections::BTreeSet<u32> =
+        opcodes::Opcode::ALL.iter().map(|o| o.code()).collect();
+    assert_eq!(
+        codes.len(),
+        opcodes::Opcode::ALL.len(),
+        "opcode numbers repeat"
+    );
+    let missing: Vec<&str> = Helper::ALL
+        .iter()
+        .filter(|h| opcodes::helper_opcode(**h).is_none())
+        .map(|h| h.name())
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "helpers without an interpreter opcode (add them to src/interp/opcodes.rs and \
+         shaders/interpreter/interpret.wgsl): {missing:?}"
+    );
+}
+
+#[test]
+fn bytecode_of_a_small_scene() {
+    let p = program(
+        "material red { color: [0.9, 0.2, 0.1] }\n\
+         param r = 0.5;\n\
+         scene = union(sphere(1).material(red), box([1, 2, 1]).rotate_y(30deg).translate([2, 0, 0]), smooth: 0.25)\n\
+               | torus(1, r).translate([0, sin(time), 0]);\n",
+    );
+    let code = encode(&p).expect("encodes");
+    insta::assert_snapshot!("small_scene_bytecode", code.listing());
+}
+
+#[test]
+fn large_and_grouped_scenes_fit_the_register_file() {
+    // Spheres in a union large enough to be split into group functions.
+    let mut src = String::from("scene = union(\n");
+    for i in 0..400 {
+        src += &format!("    sphere(0.3).translate([{}, {}, 0]),\n", i % 20, i / 20);
+    }
+    src += ");\n";
+    let p = program(&src);
+    assert!(!p.groups.is_empty(), "the union was not split into groups");
+    let code = encode(&p).expect("encodes");
+    assert!(code.registers <= MAX_REGISTERS);
+    let spec = std::fs::read_to_string(root().join("examples/spec_section10.sdf")).unwrap();
+    let code = encode(&program(&spec)).expect("encodes");
+    assert!(code.registers <= MAX_REGISTERS);
+}
+
+#[test]
+fn too_many_live_values_is_a_clean_error() {
+    // Terms t_i used twice: by a sum, then by a product. Whatever the order, every term
+    // computed for the sum stays live until the product reads it, so MAX_REGISTERS + 8
+    // terms need more registers than there are.
+    let n = MAX_REGISTERS as usize + 8;
+    let terms: Vec<String> = (0..n).map(|i| format!("sin(p.x * {}.5)", i + 1)).collect();
+    let sum = terms.join(" + ");
+    let product = terms.join(" * ");
+    let src = format!(
+        "scene = sdf(|p| length(p) - 1 + 0.001 * ({sum}) + 0.001 * ({product}), lipschitz: 2);\n"
+    );
+    match encode(&program(&src)) {
+        Err(EncodeError::TooLarge(msg)) => assert!(msg.contains("live"), "{msg}"),
+        Ok(code) => panic!("encoded in {} registers", code.registers),
+        Err(e) => panic!("{e}"),
+    }
+}

@@ -1,0 +1,63 @@
+// The interpreter's inputs: one Frame uniform with the image, the camera and the render
+// settings (the specialised shader's compile-time constants, here runtime values), the
+// bytecode, and a data buffer of lights, params and constants.
+struct Frame {
+    resolution: vec2<u32>,
+    time: f32,
+    flags: u32,
+    camera_position: vec3<f32>,
+    tan_half_fov: f32,
+    camera_forward: vec3<f32>,
+    max_distance: f32,
+    camera_right: vec3<f32>,
+    inv_gamma: f32,
+    camera_up: vec3<f32>,
+    relaxation: f32,
+    background: vec3<f32>,
+    // The absolute surface threshold; unused with `epsilon: pixel` (switches bit 0).
+    epsilon: f32,
+    fog_color: vec3<f32>,
+    fog_density: f32,
+    max_steps: u32,
+    antialias: u32,
+    // 0 tetrahedron, 1 central, 2 forward.
+    normals: u32,
+    // 0 none, 1 hard, 2 soft.
+    shadows: u32,
+    shadow_k: f32,
+    // 0: no ambient occlusion.
+    ao_samples: u32,
+    ao_step: f32,
+    ao_strength: f32,
+    ao_falloff: f32,
+    reflections: u32,
+    light_count: u32,
+    // Bit 0: `epsilon: pixel`; bit 1: fog.
+    switches: u32,
+    // Instruction ranges [start, end) of the two functions in `code`.
+    distance_code: vec2<u32>,
+    material_code: vec2<u32>,
+    // Where the lights (two entries each: position or reversed direction with w = 1 for a
+    // point light, then colour times intensity), the params and the constants start in `data`.
+    lights_at: u32,
+    params_at: u32,
+    consts_at: u32,
+    pad: u32,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read_write> color_out: array<u32>;
+@group(0) @binding(2) var<storage, read_write> aov_out: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> code: array<vec4<u32>>;
+@group(0) @binding(4) var<storage, read> data: array<vec4<f32>>;
+
+// The specialised shader's entry point calls this to load its inputs; here the settings
+// stay in the uniform, which the shared parts read directly (see `interp::runtime`).
+fn load_frame() {
+}
+
+// A surface's material: albedo = (rgb colour, reflectivity); phong = (ambient, diffuse, specular, shininess).
+struct SceneMaterial {
+    albedo: vec4<f32>,
+    phong: vec4<f32>,
+}

@@ -13,15 +13,15 @@ use sdfc_tests::grid_scene;
 use sdfc_wgsl::{compile, Compiled, Options};
 
 fn both(src: &str) -> (Compiled, Compiled) {
-    let culled = compile(src, &Options::default()).expect("culled compiles");
-    let plain = compile(
+    let culled = compile(
         src,
         &Options {
-            no_cull: true,
+            cull: true,
             ..Options::default()
         },
     )
-    .expect("plain compiles");
+    .expect("culled compiles");
+    let plain = compile(src, &Options::default()).expect("plain compiles");
     (culled, plain)
 }
 

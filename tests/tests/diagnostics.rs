@@ -92,7 +92,7 @@ fn every_error_file_is_rejected_with_well_formed_diagnostics() {
         let lib = Options {
             lib: true,
             import_path: None,
-            no_cull: false,
+            cull: false,
         };
         assert_eq!(
             diagnostics_of(&file, &case.source, &lib),

@@ -138,7 +138,7 @@ fn library_form_validates_and_matches_the_full_shader() {
         let lib_opts = Options {
             lib: true,
             import_path: None,
-            no_cull: false,
+            cull: false,
         };
         let lib = compile(&scene.stem, &scene.source, &lib_opts);
         if let Err(report) =
@@ -178,7 +178,7 @@ fn library_form_with_import_path() {
         let opts = Options {
             lib: true,
             import_path: Some("my::scene".into()),
-            no_cull: false,
+            cull: false,
         };
         let with_path = compile(&scene.stem, &scene.source, &opts);
         let plain = compile(
@@ -187,7 +187,7 @@ fn library_form_with_import_path() {
             &Options {
                 lib: true,
                 import_path: None,
-                no_cull: false,
+                cull: false,
             },
         );
         let first = with_path.wgsl.lines().next().unwrap_or_default();
@@ -207,7 +207,7 @@ fn import_path_is_ignored_without_lib() {
     let opts = Options {
         lib: false,
         import_path: Some("my::scene".into()),
-        no_cull: false,
+        cull: false,
     };
     let c = compile(&scene.stem, &scene.source, &opts);
     assert!(!c.wgsl.contains("#define_import_path"));
@@ -270,7 +270,7 @@ fn identity_transforms_emit_identical_wgsl() {
         Options {
             lib: true,
             import_path: None,
-            no_cull: false,
+            cull: false,
         },
     ] {
         let a = compile("identity_a", &a_src, &opts);

@@ -23,10 +23,11 @@ pub struct Args {
     /// not exact (line:column, exact/bound/neither, L)
     #[arg(long)]
     explain: bool,
-    /// Emit large unions without their bounding-box early-outs (same distances, slower
-    /// marching): to measure what culling gains
+    /// Emit large unions (16 or more bounded children) as a hierarchy of bounding boxes
+    /// with early-outs; the same distances. Off by default: on the software device measured
+    /// so far it is slower (docs/performance.md)
     #[arg(long)]
-    no_cull: bool,
+    cull: bool,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -50,7 +51,7 @@ pub fn run(a: Args) -> Outcome {
     let opts = sdfc_wgsl::Options {
         lib: a.lib,
         import_path: a.import_path.clone(),
-        no_cull: a.no_cull,
+        cull: a.cull,
     };
     let text = if let Emit::Ast = a.emit {
         match sdfc_syntax::parse(&source) {

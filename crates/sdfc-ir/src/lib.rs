@@ -64,13 +64,14 @@ pub struct Stages {
 /// Choices of the compiler that do not change what a scene means.
 #[derive(Clone, Debug)]
 pub struct IrOptions {
-    /// Bounding-box early-outs in large unions (`to_ssa/cull.rs`); on by default.
+    /// Bounding-box early-outs in large unions (`to_ssa/cull.rs`); off by default (slower
+    /// on the software device measured so far, docs/performance.md).
     pub cull: bool,
 }
 
 impl Default for IrOptions {
     fn default() -> IrOptions {
-        IrOptions { cull: true }
+        IrOptions { cull: false }
     }
 }
 

@@ -127,6 +127,29 @@ fn large_union_with_groups() {
     );
 }
 
+/// The same scene with culling (`--cull`): the guarded group calls, run on the device, give
+/// the reference's distances.
+#[test]
+fn large_union_culled() {
+    let source = sdfc_tests::grid_scene(200);
+    let opts = sdfc_wgsl::Options {
+        cull: true,
+        ..Default::default()
+    };
+    let compiled = sdfc_wgsl::compile(&source, &opts).expect("grid_scene(200) compiles");
+    assert!(
+        compiled.wgsl.contains("if bound"),
+        "no early-out in the culled shader"
+    );
+    check(
+        "grid_scene(200), culled",
+        &compiled,
+        &points(11, POINTS, [-8.0, -1.0, -12.0], [8.0, 12.0, 2.0]),
+        0.0,
+        &[],
+    );
+}
+
 /// More points than one dispatch of 65 535 workgroups of 64 takes: batches line up.
 #[test]
 fn batches_beyond_one_dispatch() {

@@ -49,9 +49,9 @@ pub struct Options {
     pub lib: bool,
     /// A naga_oil `#define_import_path` for the library form.
     pub import_path: Option<String>,
-    /// No bounding-box early-outs in large unions (`--no-cull`): for measuring what culling
-    /// gains; the distances are the same either way.
-    pub no_cull: bool,
+    /// Bounding-box early-outs in large unions (`sdfc compile --cull`); the distances are the
+    /// same either way. Off by default until it is measured to win (docs/performance.md).
+    pub cull: bool,
 }
 
 /// A compiled scene: the validated WGSL, the IR stages, and any warnings.
@@ -104,9 +104,7 @@ pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
 /// As [`compile`], on the calling thread's stack.
 pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
     let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
-    let ir = sdfc_ir::IrOptions {
-        cull: !opts.no_cull,
-    };
+    let ir = sdfc_ir::IrOptions { cull: opts.cull };
     let (stages, diags) = sdfc_ir::compile_with(&file, source.len(), &ir);
     let Some(stages) = stages else {
         return Err(Failure::Diagnostics(diags));

@@ -53,15 +53,35 @@ impl Builder<'_> {
         // Two halves by the median along the longest axis of the children's centres.
         sort_along_longest_axis(&mut bounded);
         let (lo, hi) = bounded.split_at(bounded.len() / 2);
-        for half in [lo, hi] {
-            let ids: Vec<ShapeId> = half.iter().map(|(c, _)| *c).collect();
-            let bx = half
-                .iter()
-                .map(|(_, b)| *b)
-                .reduce(|a, b| a.hull(&b))
-                .unwrap_or(half[0].1);
-            let guard = acc.map(|(best, _)| (self.box_distance(p, &bx), best));
-            let part = self.group_call(&ids, p, mat, guard);
+        let halves: Vec<(Vec<ShapeId>, Aabb)> = [lo, hi]
+            .iter()
+            .map(|half| {
+                let ids = half.iter().map(|(c, _)| *c).collect();
+                let bx = half
+                    .iter()
+                    .map(|(_, b)| *b)
+                    .reduce(|a, b| a.hull(&b))
+                    .unwrap_or(half[0].1);
+                (ids, bx)
+            })
+            .collect();
+        // An upper bound to start from: a shape inside a box is no farther than the box's
+        // farthest corner. It lets the first half be skipped too where the second is nearer;
+        // it never becomes the union's value, since the half that attains it is evaluated
+        // (its own distance is no greater) unless a nearer one was found first.
+        let far: Vec<NodeId> = halves.iter().map(|(_, bx)| self.box_far(p, bx)).collect();
+        let mut upper = far[0];
+        for &f in &far[1..] {
+            upper = self.g.builtin(Builtin::Min, &[upper, f]);
+        }
+        let mut acc = Some(match acc {
+            Some((d, m)) => (self.g.builtin(Builtin::Min, &[d, upper]), m),
+            None => (upper, self.materials.then(|| self.material_const(mat))),
+        });
+        for (ids, bx) in &halves {
+            let best = acc.map(|(d, _)| d).unwrap_or(upper);
+            let guard = Some((self.box_distance(p, bx), best));
+            let part = self.group_call(ids, p, mat, guard);
             acc = Some(self.union_with(acc, part));
         }
         acc
@@ -98,6 +118,25 @@ impl Builder<'_> {
         let q = self.hinted(q, "q");
         let b = self.op(Op::Helper(Helper::SdBox), &[q, h]);
         self.hinted(b, "bound")
+    }
+}
+
+impl Builder<'_> {
+    /// The distance from `p` to the box's farthest point: `length(abs(p - c) + h)`.
+    fn box_far(&mut self, p: NodeId, bx: &Aabb) -> NodeId {
+        let c = [0, 1, 2].map(|i| 0.5 * (bx.lo[i] + bx.hi[i]));
+        let h = [0, 1, 2].map(|i| 0.5 * (bx.hi[i] - bx.lo[i]));
+        // Widened like the lower bound, so that f32 rounding keeps it an upper bound.
+        let size = c.iter().chain(&h).fold(1.0f64, |m, x| m.max(x.abs()));
+        let c = c.map(|x| x as f32);
+        let h = h.map(|x| (x + 1e-5 * size) as f32);
+        let c = self.g.konst(crate::value::Value::V3(c));
+        let h = self.g.konst(crate::value::Value::V3(h));
+        let q = self.op(Op::Sub, &[p, c]);
+        let a = self.g.builtin(Builtin::Abs, &[q]);
+        let a = self.op(Op::Add, &[a, h]);
+        let l = self.g.builtin(Builtin::Length, &[a]);
+        self.hinted(l, "far")
     }
 }
 

@@ -1,0 +1,99 @@
+//! Culling benchmark: the same large unions compiled with and without bounding-box
+//! early-outs (`sdfc compile --cull`), rendered at 160x120 on the same device in one run.
+//! Before divan's table it prints, per scene, device time (timestamp queries where the
+//! adapter has them, else wall time), both ways, their ratio, and the largest depth difference
+//! between the two pictures (the culled field equals the plain one for exact shapes, so the
+//! error is the same).
+//!
+//! `cargo bench -p sdfc-render --bench culling`
+
+use sdfc_render::{RenderOptions, Renderer};
+use sdfc_wgsl::{Compiled, Options};
+use std::sync::OnceLock;
+use std::time::Duration;
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+const SIZES: [usize; 2] = [100, 300];
+
+fn renderer() -> &'static Renderer {
+    static R: OnceLock<Renderer> = OnceLock::new();
+    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("cannot render: {e}")))
+}
+
+fn compiled(n: usize, cull: bool) -> Compiled {
+    let opts = Options {
+        cull,
+        ..Options::default()
+    };
+    sdfc_wgsl::compile(&sdfc_tests::grid_scene(n), &opts)
+        .unwrap_or_else(|_| panic!("grid_scene({n}) does not compile"))
+}
+
+fn options() -> RenderOptions {
+    RenderOptions::sized(WIDTH, HEIGHT)
+}
+
+/// Mean device time of a few warm frames (wall time where there are no timestamps).
+fn time(c: &Compiled) -> Duration {
+    let r = renderer();
+    r.render(c, &options()).expect("render");
+    let frames = 5;
+    let mut total = Duration::ZERO;
+    for _ in 0..frames {
+        let f = r.render(c, &options()).expect("render");
+        total += f.device_time.unwrap_or(f.wall_time);
+    }
+    total / frames
+}
+
+fn depth(c: &Compiled) -> Vec<f32> {
+    let f = renderer()
+        .render(
+            c,
+            &RenderOptions {
+                aovs: true,
+                ..options()
+            },
+        )
+        .expect("render");
+    f.aovs.expect("aovs").depth
+}
+
+fn main() {
+    let r = renderer();
+    println!("adapter: {}", r.adapter_description());
+    println!("image: {WIDTH}x{HEIGHT}, grid scenes of spheres, boxes and tori");
+    println!(
+        "{:<10} {:>12} {:>12} {:>8} {:>22}",
+        "shapes", "plain", "culled", "speedup", "max depth difference"
+    );
+    for n in SIZES {
+        let (plain, culled) = (compiled(n, false), compiled(n, true));
+        let (tp, tc) = (time(&plain), time(&culled));
+        let (dp, dc) = (depth(&plain), depth(&culled));
+        let diff = dp
+            .iter()
+            .zip(&dc)
+            .filter(|(a, b)| a.is_finite() || b.is_finite())
+            .map(|(a, b)| if a == b { 0.0 } else { (a - b).abs() })
+            .fold(0.0f32, f32::max);
+        println!(
+            "{n:<10} {:>12} {:>12} {:>7.2}x {diff:>22.3e}",
+            format!("{tp:.2?}"),
+            format!("{tc:.2?}"),
+            tp.as_secs_f64() / tc.as_secs_f64()
+        );
+    }
+    println!();
+    divan::main();
+}
+
+/// Wall time of a whole frame, plain and culled, for the 300-shape grid.
+#[divan::bench(args = [false, true], sample_count = 10, sample_size = 1)]
+fn grid_300(bencher: divan::Bencher, cull: bool) {
+    let r = renderer();
+    let c = compiled(300, cull);
+    r.render(&c, &options()).expect("render");
+    bencher.bench_local(|| r.render(&c, &options()).expect("render"));
+}

@@ -62,17 +62,11 @@ pub struct Stages {
 }
 
 /// Choices of the compiler that do not change what a scene means.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct IrOptions {
     /// Bounding-box early-outs in large unions (`to_ssa/cull.rs`); off by default (slower
     /// on the software device measured so far, docs/performance.md).
     pub cull: bool,
-}
-
-impl Default for IrOptions {
-    fn default() -> IrOptions {
-        IrOptions { cull: false }
-    }
 }
 
 /// Lowers and optimises a parsed file with the default options. Returns the stages, or the

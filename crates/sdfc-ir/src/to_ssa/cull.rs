@@ -45,7 +45,7 @@ impl Builder<'_> {
         }
         // Unbounded children (a ground plane, say) first, unguarded: they set the first
         // `best`, which the boxes are tested against.
-        let mut acc: Option<(NodeId, Option<Mat>)> = match free.len() {
+        let acc: Option<(NodeId, Option<Mat>)> = match free.len() {
             0 => None,
             // Through the plain path, which splits many of them into groups.
             _ => Some(self.combine(CombineOp::Union, None, &free, p, mat)),

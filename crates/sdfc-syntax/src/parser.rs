@@ -17,10 +17,11 @@ const MAX_DIAGNOSTICS: usize = 100;
 
 /// pest's budget of rule calls for one item. A PEG parser backtracks, and some broken inputs
 /// (unclosed parentheses inside lambdas inside calls, nested a dozen deep) made it take
-/// exponential time: a 2.8 kB file found by the fuzzer took minutes. Valid items need a few
-/// dozen calls per byte; this budget is generous for an item of the maximum file size and
-/// bounds the worst case to about a second. Exceeding it is reported as a syntax error.
-pub const CALL_LIMIT: usize = 64 * crate::MAX_SOURCE_BYTES;
+/// exponential time: 2.8 kB files found by the fuzzer took minutes. A valid item needs fewer
+/// than 24 calls per byte (a 1 MiB flat union passes with 24 per byte of the file size limit,
+/// fails with 16), so 32 leaves a margin and bounds a tangled item to about 1.5 s on the
+/// development VM. Exceeding it is reported as a syntax error at the item.
+pub const CALL_LIMIT: usize = 32 * crate::MAX_SOURCE_BYTES;
 
 pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
     scan::precheck(source).map_err(|d| vec![d])?;

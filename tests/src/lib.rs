@@ -123,3 +123,24 @@ pub fn doubling_lets(levels: usize) -> String {
     }
     s + &format!("scene = s{levels};\n")
 }
+
+/// SplitMix64: a small deterministic generator for test points, the same every run and
+/// without a dependency.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// A number uniformly in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A point uniformly in the box `lo..hi`.
+    pub fn point_in(&mut self, lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|i| lo[i] + (hi[i] - lo[i]) * self.unit())
+    }
+}

@@ -37,19 +37,9 @@ fn guarded_calls(p: &Program) -> usize {
         .sum()
 }
 
-/// SplitMix64: deterministic points without a dependency.
 fn points(seed: u64, n: usize, lo: [f64; 3], hi: [f64; 3]) -> Vec<[f64; 3]> {
-    let mut s = seed;
-    let mut next = move || {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| [0, 1, 2].map(|i| lo[i] + (hi[i] - lo[i]) * next()))
-        .collect()
+    let mut rng = sdfc_tests::SplitMix(seed);
+    (0..n).map(|_| rng.point_in(lo, hi)).collect()
 }
 
 fn same_field(name: &str, src: &str, lo: [f64; 3], hi: [f64; 3]) {

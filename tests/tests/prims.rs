@@ -22,23 +22,7 @@ const REL: f64 = 1e-6;
 const ABS: f64 = 1e-9;
 const POINTS: usize = 4000;
 
-/// SplitMix64: deterministic points with no dependency.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn point(&mut self, lo: f64, hi: f64) -> [f64; 3] {
-        [0; 3].map(|_| lo + (hi - lo) * self.next())
-    }
-}
+use sdfc_tests::SplitMix;
 
 struct Shape {
     program: sdfc_ir::Program,
@@ -71,11 +55,11 @@ fn eval(s: &Shape, p: [f64; 3]) -> f64 {
 /// returns the worst error relative to `|reference|` (where it exceeds 1e-3) and absolute.
 fn exact(scene: &str, lo: f64, hi: f64, seed: u64, reference: impl Fn([f64; 3]) -> f64) {
     let s = Shape::new(scene);
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix(seed);
     let (mut worst_rel, mut worst_abs) = (0f64, 0f64);
     let (mut inside, mut outside) = (0, 0);
     for _ in 0..POINTS {
-        let p = rng.point(lo, hi);
+        let p = rng.point_in([lo; 3], [hi; 3]);
         let got = eval(&s, p);
         let want = reference(p);
         let err = (got - want).abs();
@@ -432,10 +416,10 @@ fn ellipsoid_distance(p: [f64; 3], r: [f64; 3]) -> f64 {
 fn ellipsoid_is_a_bound_with_the_right_sign() {
     let r = [1.0, 0.5, 0.25];
     let s = Shape::new("ellipsoid([1, 0.5, 0.25])");
-    let mut rng = Rng(20);
+    let mut rng = SplitMix(20);
     let (mut worst_ratio, mut inside) = (f64::INFINITY, 0);
     for _ in 0..POINTS {
-        let p = rng.point(-1.2, 1.2);
+        let p = rng.point_in([-1.2; 3], [1.2; 3]);
         let d = eval(&s, p);
         let truth = ellipsoid_distance(p, r);
         let k = (0..3).map(|i| (p[i] / r[i]).powi(2)).sum::<f64>();
@@ -452,7 +436,7 @@ fn ellipsoid_is_a_bound_with_the_right_sign() {
         if truth > 1e-3 {
             worst_ratio = worst_ratio.min(d.abs() / truth);
         }
-        let step = rng.point(-0.05, 0.05);
+        let step = rng.point_in([-0.05; 3], [0.05; 3]);
         let q = [0, 1, 2].map(|i| p[i] + step[i]);
         assert!(
             (eval(&s, q) - d).abs() <= len(step) * (1.0 + 1e-9) + 1e-12,
@@ -470,10 +454,10 @@ fn ellipsoid_is_a_bound_with_the_right_sign() {
 /// |d(p) - d(q)| <= |p - q| (Lipschitz 1) on random nearby pairs.
 fn bound_by_membership(scene: &str, member: impl Fn([f64; 3]) -> bool, seed: u64) {
     let s = Shape::new(scene);
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix(seed);
     let samples: Vec<([f64; 3], bool)> = (0..40_000)
         .map(|_| {
-            let p = rng.point(-0.55, 0.55);
+            let p = rng.point_in([-0.55; 3], [0.55; 3]);
             (p, member(p))
         })
         .collect();
@@ -489,11 +473,11 @@ fn bound_by_membership(scene: &str, member: impl Fn([f64; 3]) -> bool, seed: u64
     for i in 0..POINTS / 4 {
         // Half the points near a member (where the sign is interesting), half anywhere.
         let p = if i % 2 == 0 {
-            let m = members[(rng.next() * members.len() as f64) as usize];
-            let j = rng.point(-0.02, 0.02);
+            let m = members[(rng.unit() * members.len() as f64) as usize];
+            let j = rng.point_in([-0.02; 3], [0.02; 3]);
             [0, 1, 2].map(|k| m[k] + j[k])
         } else {
-            rng.point(-0.7, 0.7)
+            rng.point_in([-0.7; 3], [0.7; 3])
         };
         let d = eval(&s, p);
         assert!(d.is_finite(), "{scene} at {p:?}: {d}");
@@ -510,7 +494,7 @@ fn bound_by_membership(scene: &str, member: impl Fn([f64; 3]) -> bool, seed: u64
         } else {
             assert!(d <= nearest(p, &members) + 1e-12, "{scene} at {p:?}: {d}");
         }
-        let step = rng.point(-0.05, 0.05);
+        let step = rng.point_in([-0.05; 3], [0.05; 3]);
         let q = [0, 1, 2].map(|i| p[i] + step[i]);
         let dq = eval(&s, q);
         assert!(
@@ -625,7 +609,7 @@ fn mandelbulb_bounding_sphere_sign_and_finiteness() {
     ] {
         let s = Shape::new(scene);
         let bound = bound as f32 as f64;
-        let mut rng = Rng(25);
+        let mut rng = SplitMix(25);
         // On the bounding sphere itself the estimate must stay clear of zero, or rays stop on
         // the sphere instead of the fractal.
         for k in 0..200 {
@@ -644,7 +628,7 @@ fn mandelbulb_bounding_sphere_sign_and_finiteness() {
         }
         let mut escaping = 0;
         for _ in 0..POINTS {
-            let p = rng.point(-1.6, 1.6);
+            let p = rng.point_in([-1.6; 3], [1.6; 3]);
             let d = eval(&s, p);
             assert!(d.is_finite(), "{scene} at {p:?}: {d}");
             let lp = len(p);
@@ -785,7 +769,7 @@ fn the_examples_compile_without_warnings() {
 /// Zero sizes make flat or empty shapes, never NaN: the divisions are guarded.
 #[test]
 fn degenerate_sizes_stay_finite() {
-    let mut rng = Rng(26);
+    let mut rng = SplitMix(26);
     for scene in [
         "cone(0, 1)",
         "cone(1, 0)",
@@ -802,7 +786,7 @@ fn degenerate_sizes_stay_finite() {
     ] {
         let s = Shape::new(scene);
         for _ in 0..200 {
-            let p = rng.point(-1.0, 1.0);
+            let p = rng.point_in([-1.0; 3], [1.0; 3]);
             assert!(eval(&s, p).is_finite(), "{scene} at {p:?}");
         }
         assert!(eval(&s, [0.0; 3]).is_finite(), "{scene} at the origin");

@@ -1,7 +1,6 @@
 //! `sdfc render --compare`: the GPU frame's error against the f64 CPU reference
 //! (sdfc-reference), as a plain or Markdown table on stdout.
 
-use sdfc_ir::value::Value;
 use sdfc_reference::metrics::{self, GpuFrame, Metrics};
 use sdfc_render::Frame;
 use sdfc_wgsl::Compiled;
@@ -19,18 +18,12 @@ pub fn table(
     device: &str,
 ) -> String {
     let program = compiled.program();
-    let mut params: Vec<Value<f64>> = program
-        .scene
-        .params
+    // The device sees the overrides in f32; so does the reference.
+    let in_f32: Vec<(String, Vec<f64>)> = overrides
         .iter()
-        .map(|p| p.default.cast())
+        .map(|(n, c)| (n.clone(), c.iter().map(|&v| v as f32 as f64).collect()))
         .collect();
-    for (n, comps) in overrides {
-        if let Some(i) = program.scene.params.iter().position(|p| &p.name == n) {
-            let c: Vec<f64> = comps.iter().map(|&v| v as f32 as f64).collect();
-            params[i] = Value::from_comps(program.scene.params[i].ty, &c);
-        }
-    }
+    let params = program.scene.param_values(&in_f32);
     let opts = sdfc_reference::Options {
         width: frame.width,
         height: frame.height,

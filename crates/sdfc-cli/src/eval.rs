@@ -4,7 +4,6 @@
 use crate::render::{open_renderer, param_overrides, render_failure, to_f32};
 use crate::{load_scene, Outcome};
 use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_ir::value::Value;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -35,17 +34,7 @@ pub fn run(a: Args) -> Outcome {
         Ok(p) => p,
         Err(o) => return o,
     };
-    let mut params: Vec<Value<f64>> = program
-        .scene
-        .params
-        .iter()
-        .map(|p| p.default.cast())
-        .collect();
-    for (name, comps) in &overrides {
-        if let Some(i) = program.scene.params.iter().position(|p| &p.name == name) {
-            params[i] = Value::from_comps(program.scene.params[i].ty, comps);
-        }
-    }
+    let params = program.scene.param_values(&overrides);
     let text = match std::fs::read_to_string(&a.points) {
         Ok(t) => t,
         Err(e) => {

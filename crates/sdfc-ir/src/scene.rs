@@ -25,6 +25,19 @@ impl Scene {
     pub fn shape(&self, id: ShapeId) -> &ShapeNode {
         &self.shapes[id.index()]
     }
+
+    /// Every param's value in f64: its default, or the override of that name (overrides of
+    /// unknown names, and components that do not fit its type, are left to the caller's
+    /// checks).
+    pub fn param_values(&self, overrides: &[(String, Vec<f64>)]) -> Vec<Value<f64>> {
+        let mut values: Vec<Value<f64>> = self.params.iter().map(|p| p.default.cast()).collect();
+        for (name, comps) in overrides {
+            if let Some(i) = self.params.iter().position(|p| &p.name == name) {
+                values[i] = Value::from_comps(self.params[i].ty, comps);
+            }
+        }
+        values
+    }
 }
 
 /// A `param`: a runtime uniform with its default.

@@ -2,31 +2,16 @@
 //! against the f64 reference evaluator at given points.
 
 use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_ir::value::Value;
 use sdfc_render::Renderer;
-
-/// A small deterministic generator (SplitMix64): no dependency, same points every run.
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// `n` deterministic points uniformly in the box `lo..hi`.
 pub fn points(seed: u64, n: usize, lo: [f32; 3], hi: [f32; 3]) -> Vec<[f32; 3]> {
-    let mut rng = Rng(seed);
+    let mut rng = sdfc_tests::SplitMix(seed);
     (0..n)
         .map(|_| {
             let mut p = [0.0f32; 3];
             for k in 0..3 {
-                p[k] = lo[k] + (hi[k] - lo[k]) * rng.next() as f32;
+                p[k] = lo[k] + (hi[k] - lo[k]) * rng.unit() as f32;
             }
             p
         })
@@ -68,22 +53,11 @@ pub fn agree(
     if gpu.len() != pts.len() {
         return Err(format!("{} values for {} points", gpu.len(), pts.len()));
     }
-    let mut param_values: Vec<Value<f64>> = program
-        .scene
-        .params
+    let overrides: Vec<(String, Vec<f64>)> = params
         .iter()
-        .map(|p| p.default.cast())
+        .map(|(n, v)| (n.clone(), v.iter().map(|&c| c as f64).collect()))
         .collect();
-    for (n, v) in params {
-        let i = program
-            .scene
-            .params
-            .iter()
-            .position(|p| &p.name == n)
-            .ok_or_else(|| format!("no param {n}"))?;
-        let comps: Vec<f64> = v.iter().map(|&c| c as f64).collect();
-        param_values[i] = Value::from_comps(program.scene.params[i].ty, &comps);
-    }
+    let param_values = program.scene.param_values(&overrides);
     let mut worst_rel: f64 = 0.0;
     let mut worst_abs: f64 = 0.0;
     let mut failures = Vec::new();

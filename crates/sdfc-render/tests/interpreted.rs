@@ -152,11 +152,13 @@ fn mean_colour_difference(a: &Frame, b: &Frame) -> f64 {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn a_sphere() {
     compare("sphere", &compile("sphere", "scene = sphere(1);\n"));
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn the_spec_section_10_scene() {
     compare(
         "spec_section10",
@@ -165,6 +167,7 @@ fn the_spec_section_10_scene() {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn smooth_union_materials_shadows_ao_reflections_fog() {
     compare(
         "features",
@@ -173,6 +176,7 @@ fn smooth_union_materials_shadows_ao_reflections_fog() {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn antialiasing_with_shadows_and_ao() {
     let src = FEATURES
         .replace("{AA}", "antialias: 2,")
@@ -196,11 +200,13 @@ fn all_features_at_once() {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn every_helper_and_operation() {
     compare("shapes", &compile("shapes", SHAPES));
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn a_union_split_into_groups() {
     // The benchmark's 300-shape grid needs 81 registers: beyond the file, a clean error.
     let big = compile("grid_300", &sdfc_tests::grid_scene(300));
@@ -218,6 +224,7 @@ fn a_union_split_into_groups() {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn the_render_test_scenes() {
     let dir = common::root().join("crates/sdfc-render/tests/scenes");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
@@ -245,6 +252,7 @@ fn the_render_test_scenes() {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn one_pipeline_for_every_interpreted_scene() {
     // A renderer of its own, so other tests' pipelines do not count.
     let Some(_) = renderer() else { return };
@@ -264,6 +272,7 @@ fn one_pipeline_for_every_interpreted_scene() {
 }
 
 #[test]
+#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn params_and_time_reach_the_interpreter() {
     let Some(r) = renderer() else { return };
     let c = compile_file("crates/sdfc-render/tests/scenes/params_time.sdf");

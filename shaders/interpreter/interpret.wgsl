@@ -91,6 +91,17 @@ fn interpret(range: vec2<u32>, p: vec3<f32>) -> Outputs {
             case OP_ROTATE_Y: { r = vec4<f32>(rotate_y(a.xyz, b.x, c.x), 0.0); }
             case OP_ROTATE_Z: { r = vec4<f32>(rotate_z(a.xyz, b.x, c.x), 0.0); }
             case OP_NOISE: { r = vec4<f32>(noise(a.xyz)); }
+            case OP_SD_BOX_FRAME: { r = vec4<f32>(sd_box_frame(a.xyz, b.xyz, c.x)); }
+            case OP_SD_CAPPED_TORUS: { r = vec4<f32>(sd_capped_torus(a.xyz, b.xy, c.x, d.x)); }
+            case OP_SD_CAPPED_CONE: { r = vec4<f32>(sd_capped_cone(a.xyz, b.x, c.x, d.x)); }
+            case OP_SD_ELLIPSOID: { r = vec4<f32>(sd_ellipsoid(a.xyz, b.xyz)); }
+            case OP_SD_OCTAHEDRON: { r = vec4<f32>(sd_octahedron(a.xyz, b.x)); }
+            case OP_SD_HEX_PRISM: { r = vec4<f32>(sd_hex_prism(a.xyz, b.x, c.x)); }
+            case OP_SD_TRI_PRISM: { r = vec4<f32>(sd_tri_prism(a.xyz, b.x, c.x)); }
+            case OP_SD_PYRAMID: { r = vec4<f32>(sd_pyramid(a.xyz, b.x)); }
+            case OP_SD_MANDELBULB: { r = vec4<f32>(sd_mandelbulb(a.xyz, b.x, c.x, d.x)); }
+            case OP_SD_MENGER: { r = vec4<f32>(sd_menger(a.xyz, b.x)); }
+            case OP_SD_SIERPINSKI: { r = vec4<f32>(sd_sierpinski(a.xyz, b.x)); }
             default: {}
         }
         regs[dst] = r;

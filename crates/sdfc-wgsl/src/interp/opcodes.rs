@@ -108,6 +108,17 @@ opcodes! {
     RotateY = 107, "OP_ROTATE_Y", "rotate_y";
     RotateZ = 108, "OP_ROTATE_Z", "rotate_z";
     Noise = 109, "OP_NOISE", "noise";
+    SdBoxFrame = 110, "OP_SD_BOX_FRAME", "sd_box_frame";
+    SdCappedTorus = 111, "OP_SD_CAPPED_TORUS", "sd_capped_torus";
+    SdCappedCone = 112, "OP_SD_CAPPED_CONE", "sd_capped_cone";
+    SdEllipsoid = 113, "OP_SD_ELLIPSOID", "sd_ellipsoid";
+    SdOctahedron = 114, "OP_SD_OCTAHEDRON", "sd_octahedron";
+    SdHexPrism = 115, "OP_SD_HEX_PRISM", "sd_hex_prism";
+    SdTriPrism = 116, "OP_SD_TRI_PRISM", "sd_tri_prism";
+    SdPyramid = 117, "OP_SD_PYRAMID", "sd_pyramid";
+    SdMandelbulb = 118, "OP_SD_MANDELBULB", "sd_mandelbulb";
+    SdMenger = 119, "OP_SD_MENGER", "sd_menger";
+    SdSierpinski = 120, "OP_SD_SIERPINSKI", "sd_sierpinski";
 }
 
 /// The opcode of a distance helper; `None` for a helper the interpreter does not know yet
@@ -125,6 +136,17 @@ pub fn helper_opcode(h: Helper) -> Option<Opcode> {
         Helper::RotateY => Opcode::RotateY,
         Helper::RotateZ => Opcode::RotateZ,
         Helper::Noise => Opcode::Noise,
+        Helper::SdBoxFrame => Opcode::SdBoxFrame,
+        Helper::SdCappedTorus => Opcode::SdCappedTorus,
+        Helper::SdCappedCone => Opcode::SdCappedCone,
+        Helper::SdEllipsoid => Opcode::SdEllipsoid,
+        Helper::SdOctahedron => Opcode::SdOctahedron,
+        Helper::SdHexPrism => Opcode::SdHexPrism,
+        Helper::SdTriPrism => Opcode::SdTriPrism,
+        Helper::SdPyramid => Opcode::SdPyramid,
+        Helper::SdMandelbulb => Opcode::SdMandelbulb,
+        Helper::SdMenger => Opcode::SdMenger,
+        Helper::SdSierpinski => Opcode::SdSierpinski,
         _ => return None,
     })
 }

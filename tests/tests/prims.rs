@@ -754,11 +754,37 @@ fn every_new_primitive_is_exact_or_documented_as_a_bound() {
     }
 }
 
+/// Every scene in `examples/` (the gallery's, rendered by scripts/render-docs.sh).
 #[test]
 fn the_examples_compile_without_warnings() {
-    for name in ["primitives", "fractals"] {
-        let path = sdfc_tests::root().join(format!("../examples/{name}.sdf"));
-        let src = std::fs::read_to_string(&path).unwrap();
+    let dir = sdfc_tests::root().join("../examples");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "sdf"))
+        .collect();
+    paths.sort();
+    // The gallery's scenes at least; a lost or renamed one would go unchecked otherwise.
+    for name in [
+        "primitives",
+        "fractals",
+        "spec_section10",
+        "ribbed_sphere",
+        "sphere_box",
+        "sphere_grid",
+        "soft_shadows",
+        "ambient_occlusion",
+        "reflections",
+        "terrain",
+    ] {
+        assert!(
+            paths.iter().any(|p| p.ends_with(format!("{name}.sdf"))),
+            "examples/{name}.sdf is missing"
+        );
+    }
+    for path in &paths {
+        let name = path.display();
+        let src = std::fs::read_to_string(path).unwrap();
         match compile(&src, &Options::default()) {
             Ok(c) => assert!(c.warnings.is_empty(), "{name}: {:?}", c.warnings),
             Err(e) => panic!("{name}: {e:?}"),

@@ -19,7 +19,9 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             step = step - omega * step;
             omega = 1.0;
         } else {
-            if d < surface_epsilon(t, pixel) {
+            // `<=`: at the camera the pixel threshold is 0, and a camera on a surface (d = 0)
+            // must hit there rather than step by 0 for ever.
+            if d <= surface_epsilon(t, pixel) {
                 let refined = refine(ro, rd, t, d, steps, surface_epsilon(t, pixel));
                 if refined.hit {
                     // A surface refined to beyond MAX_DISTANCE is out of range: a miss.

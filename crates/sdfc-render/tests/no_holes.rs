@@ -10,9 +10,9 @@
 
 mod common;
 
+use common::against_reference::{render_against_reference, Compared};
 use common::{compile, compile_file, renderer};
-use sdfc_reference::metrics::{self, GpuFrame};
-use sdfc_render::RenderOptions;
+use sdfc_reference::metrics;
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -23,29 +23,12 @@ fn check(name: &str, compiled: &sdfc_wgsl::Compiled) {
     let Some(r) = renderer() else {
         return;
     };
-    let frame = r
-        .render(
-            compiled,
-            &RenderOptions {
-                aovs: true,
-                ..RenderOptions::sized(W, H)
-            },
-        )
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let Compared {
+        frame,
+        reference,
+        metrics: m,
+    } = render_against_reference(r, name, compiled, W, H);
     let aovs = frame.aovs.as_ref().expect("AOVs were asked for");
-    let reference =
-        sdfc_reference::render(compiled.program(), &sdfc_reference::Options::sized(W, H));
-    let m = metrics::compare(
-        &GpuFrame {
-            width: W,
-            height: H,
-            rgba: &frame.rgba,
-            depth: &aovs.depth,
-            normal: &aovs.normal,
-            steps: &aovs.steps,
-        },
-        &reference,
-    );
     // Holes only (the metrics' interior mismatches count both directions).
     let holes: Vec<(u32, u32, f64, f32)> = (0..H)
         .flat_map(|y| (0..W).map(move |x| (x, y)))

@@ -10,9 +10,9 @@
 
 mod common;
 
+use common::against_reference::render_against_reference;
 use common::{compile_file, renderer};
-use sdfc_reference::metrics::{self, GpuFrame, Metrics};
-use sdfc_render::RenderOptions;
+use sdfc_reference::metrics::{self, Metrics};
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -21,29 +21,7 @@ const H: u32 = 48;
 fn measure(name: &str) -> Option<Metrics> {
     let r = renderer()?;
     let compiled = compile_file(&format!("tests/stress/{name}.sdf"));
-    let frame = r
-        .render(
-            &compiled,
-            &RenderOptions {
-                aovs: true,
-                ..RenderOptions::sized(W, H)
-            },
-        )
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
-    let aovs = frame.aovs.as_ref().expect("AOVs were asked for");
-    let reference =
-        sdfc_reference::render(compiled.program(), &sdfc_reference::Options::sized(W, H));
-    let m = metrics::compare(
-        &GpuFrame {
-            width: W,
-            height: H,
-            rgba: &frame.rgba,
-            depth: &aovs.depth,
-            normal: &aovs.normal,
-            steps: &aovs.steps,
-        },
-        &reference,
-    );
+    let m = render_against_reference(r, name, &compiled, W, H).metrics;
     eprintln!(
         "| scene | {} |\n| {name} | {} |\nworst depth: {:?}\ninterior mismatches: {:?}",
         metrics::COLUMNS.join(" | "),

@@ -1,6 +1,7 @@
 //! Helpers shared by the render tests: one device per test binary, scene loading, goldens.
 #![allow(dead_code)]
 
+pub mod against_reference;
 pub mod eval_check;
 
 use sdfc_render::{Frame, Renderer};

@@ -11,7 +11,12 @@ pub fn root() -> PathBuf {
 
 /// The `.sdf` files of a corpus folder under `tests/`, sorted by name.
 pub fn corpus(folder: &str) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join(folder))
+    sdf_files(&root().join(folder))
+}
+
+/// The `.sdf` files of any folder, sorted by name (none if it cannot be read).
+pub fn sdf_files(dir: &std::path::Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .map(|rd| {
             rd.filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| p.extension().is_some_and(|e| e == "sdf"))

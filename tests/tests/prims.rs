@@ -758,12 +758,7 @@ fn every_new_primitive_is_exact_or_documented_as_a_bound() {
 #[test]
 fn the_examples_compile_without_warnings() {
     let dir = sdfc_tests::root().join("../examples");
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "sdf"))
-        .collect();
-    paths.sort();
+    let paths = sdfc_tests::sdf_files(&dir);
     // The gallery's scenes at least; a lost or renamed one would go unchecked otherwise.
     for name in [
         "primitives",

@@ -227,12 +227,7 @@ fn a_union_split_into_groups() {
 #[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn the_render_test_scenes() {
     let dir = common::root().join("crates/sdfc-render/tests/scenes");
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "sdf"))
-        .collect();
-    paths.sort();
+    let paths = sdfc_tests::sdf_files(&dir);
     assert!(paths.len() >= 10, "the render test scenes are missing");
     for p in paths {
         let rel = p

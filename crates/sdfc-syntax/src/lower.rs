@@ -210,7 +210,10 @@ impl<'p> Lower<'p> {
             return Err(self.internal(self.span(&pair), "expected an expression pair"));
         }
         self.pratt
-            .map_primary(|term| self.term(term))
+            .map_primary(|operand| match operand.as_rule() {
+                Rule::lambda => self.lambda(operand),
+                _ => self.term(operand),
+            })
             .map_infix(|lhs, op, rhs| {
                 let (lhs, rhs) = (lhs?, rhs?);
                 let bin = binary_op(op.as_rule())
@@ -408,7 +411,6 @@ impl<'p> Lower<'p> {
                 node.expr.span = span;
                 Ok(node)
             }
-            Rule::lambda => self.lambda(pair),
             other => Err(self.internal(span, &format!("unexpected primary {other:?}"))),
         }
     }

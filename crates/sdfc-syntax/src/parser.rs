@@ -15,9 +15,11 @@ struct SdfParser;
 /// After this many diagnostics the parser stops looking for more.
 const MAX_DIAGNOSTICS: usize = 100;
 
-/// pest's budget of rule calls for one item. A PEG parser backtracks, and some broken inputs
-/// (unclosed parentheses inside lambdas inside calls, nested a dozen deep) made it take
-/// exponential time: 2.8 kB files found by the fuzzer took minutes. A valid item needs fewer
+/// pest's budget of rule calls for one item: a safety net. A PEG parser backtracks, and some
+/// broken inputs (unclosed parentheses inside lambdas, nested a dozen deep) once made it take
+/// exponential time: 2.8 kB files found by the fuzzer took minutes. The grammar no longer
+/// backtracks like that (see `expr` in the grammar), but any future rule that does is still
+/// stopped here instead of hanging. A valid item needs fewer
 /// than 24 calls per byte (a 1 MiB flat union passes with 24 per byte of the file size limit,
 /// fails with 16), so 32 leaves a margin and bounds a tangled item to about 1.5 s on the
 /// development VM. Exceeding it is reported as a syntax error at the item.

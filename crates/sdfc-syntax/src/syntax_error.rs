@@ -147,6 +147,16 @@ fn expected_of(rule: Rule) -> Expected {
     }
 }
 
+/// A token quoted for a message; an invisible character (a control character or a stray NUL,
+/// common in pasted or corrupted files) is named by its code point, since quoting it would
+/// show nothing.
+fn describe_token(token: &str) -> String {
+    match token.chars().find(|c| c.is_control()) {
+        Some(c) => format!("the control character U+{:04X}", u32::from(c)),
+        None => format!("`{token}`"),
+    }
+}
+
 /// The diagnostic for a pest failure while parsing the text that starts at `offset`.
 /// `context` is an earlier token boundary (the start of the previous item) from which the
 /// source can be scanned for hints.
@@ -166,7 +176,7 @@ pub(crate) fn diagnose(
         None => (Span::new(pos, pos), None),
     };
     let found_words = match found {
-        Some(t) => format!("`{t}`"),
+        Some(t) => describe_token(t),
         None => "end of file".to_string(),
     };
 
@@ -189,6 +199,10 @@ pub(crate) fn diagnose(
     }
     if expected.contains(&Expected::Item) {
         expected.retain(|e| *e != Expected::EndOfFile);
+    }
+    // An expression may start with a lambda's `|`, which pest reports as a token of its own.
+    if expected.contains(&Expected::Expr) {
+        expected.retain(|e| *e != Expected::Token("|"));
     }
     if expected.contains(&Expected::Arg) {
         expected.retain(|e| *e != Expected::Expr);

@@ -114,3 +114,10 @@ fn multiple_errors() {
          let c = 1e40;\n"
     ));
 }
+
+/// A stray control character (here from a corrupted paste) is named by its code point: quoted,
+/// it would show as nothing.
+#[test]
+fn control_character() {
+    insta::assert_snapshot!(render("let a = 1;\nscene = sphere(\u{12}a);\n"));
+}

@@ -324,11 +324,25 @@ impl<'s> Builder<'s> {
                 lambda,
                 lipschitz,
             } => {
-                let (d, m) = self.shape(*child, p, mat);
+                let (base, m) = self.shape(*child, p, mat);
                 let f = self.import(*body, Some((*lambda, &[p])));
                 let l = self.divisor(s, *lipschitz);
-                let d = self.op(Op::Add, &[d, f]);
+                let d = self.op(Op::Add, &[base, f]);
                 let d = self.op(Op::Div, &[d, l]);
+                let d = self.hinted(d, "d");
+                // The surface lies where base = -f, so within {base <= M} for M the largest
+                // |f|; base is 1-Lipschitz, so base - M is a lower bound on the distance to
+                // it that needs no divisor. Far from the shape it takes the full steps the
+                // divided field would not.
+                let reach = self.info[s.index()].reach.filter(|_| self.divides(l));
+                let d = match reach {
+                    Some(reach) => {
+                        let reach = self.f(warp::f32_up(reach));
+                        let far = self.op(Op::Sub, &[base, reach]);
+                        self.g.builtin(Builtin::Max, &[d, far])
+                    }
+                    _ => d,
+                };
                 (self.hinted(d, "d"), m)
             }
             ShapeKind::Combine {
@@ -367,6 +381,18 @@ impl<'s> Builder<'s> {
                 let d = self.op(Op::Sub, &[y, h]);
                 let l = self.divisor(s, None);
                 let d = self.op(Op::Div, &[d, l]);
+                // Above the highest point of the terrain, the height over it is a lower bound
+                // on the distance that needs no divisor.
+                let top = self.info[s.index()].reach.filter(|_| self.divides(l));
+                let d = match top {
+                    Some(top) => {
+                        let d = self.hinted(d, "d");
+                        let top = self.f(warp::f32_up(top));
+                        let far = self.op(Op::Sub, &[y, top]);
+                        self.g.builtin(Builtin::Max, &[d, far])
+                    }
+                    _ => d,
+                };
                 (
                     self.hinted(d, "d"),
                     self.materials.then(|| self.material_const(mat)),
@@ -375,6 +401,11 @@ impl<'s> Builder<'s> {
         };
         self.memo.insert(key, out);
         out
+    }
+
+    /// Whether dividing by `l` may shrink a step: not for a constant divisor of 1.
+    fn divides(&self, l: NodeId) -> bool {
+        !matches!(self.g.as_const(l), Some(Value::F(x)) if x <= 1.0)
     }
 
     fn prim(&mut self, prim: Prim, args: &[NodeId], p: NodeId) -> NodeId {

@@ -71,6 +71,11 @@ pub struct NodeInfo {
     pub source: Option<Source>,
     /// Whether the node normalises its field (bound-only nodes).
     pub normalises: bool,
+    /// `displace`: the largest magnitude of the displacement; `heightfield`: the greatest
+    /// height. `None` where the analysis finds no finite bound (or for other nodes). The
+    /// emitted field uses it for a second, cheaper bound that takes full steps far from the
+    /// surface, where the divided field would crawl.
+    pub reach: Option<f64>,
 }
 
 /// The analysis of a scene, node by node (indexed like `Scene::shapes`).
@@ -196,6 +201,7 @@ impl Analyser<'_> {
             lipschitz: None,
             source: None,
             normalises: false,
+            reach: None,
         };
         match &node.kind {
             ShapeKind::Prim { prim, args } => {
@@ -227,6 +233,7 @@ impl Analyser<'_> {
                         Source::Default
                     }),
                     normalises: true,
+                    reach: None,
                 }
             }
             ShapeKind::Displace {
@@ -278,6 +285,7 @@ impl Analyser<'_> {
                     lipschitz: l,
                     source: Some(source),
                     normalises: true,
+                    reach: grow.is_finite().then_some(grow),
                 }
             }
             ShapeKind::Heightfield {
@@ -285,6 +293,8 @@ impl Analyser<'_> {
                 lambda,
                 lipschitz,
             } => {
+                let height = self.body_bound(*body, *lambda, 2).first().copied();
+                let top = height.map(|c| c.hi).filter(|h| h.is_finite());
                 let (l, source) = match lipschitz {
                     Some((n, at)) => {
                         let l = self.scalar(*n);
@@ -303,10 +313,7 @@ impl Analyser<'_> {
                         (l, Source::Declared)
                     }
                     None => {
-                        let g = self
-                            .body_bound(*body, *lambda, 2)
-                            .first()
-                            .map_or(f64::INFINITY, |c| c.slope());
+                        let g = height.map_or(f64::INFINITY, |c| c.slope());
                         if !g.is_finite() {
                             self.out.diagnostics.push(
                                 Diagnostic::error(span, "the compiler cannot bound the slope of this heightfield")
@@ -317,13 +324,18 @@ impl Analyser<'_> {
                         (Some(g), Source::Derived)
                     }
                 };
+                let mut bounds = Aabb::EVERYTHING;
+                if let Some(top) = top {
+                    bounds.hi[1] = top;
+                }
                 NodeInfo {
                     exactness: Exactness::Bound,
-                    bounds: Aabb::EVERYTHING,
+                    bounds,
                     // The field p.y - h is (1 + L^2)^(1/2)-Lipschitz.
                     lipschitz: l.map(|l| (1.0 + l * l).sqrt()),
                     source: Some(source),
                     normalises: true,
+                    reach: top,
                 }
             }
             ShapeKind::Warp {
@@ -340,6 +352,7 @@ impl Analyser<'_> {
                     lipschitz: l,
                     source: Some(source),
                     normalises: true,
+                    reach: None,
                 }
             }
             ShapeKind::Combine {

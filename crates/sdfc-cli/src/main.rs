@@ -1,6 +1,7 @@
 //! `sdfc`: compile, check, evaluate and render signed-distance scenes (see `shared/spec/cli.md`).
 //! Exit status: 0 success, 1 a problem in the user's input, 2 usage or environment.
 
+mod bench;
 mod check;
 mod compare;
 mod compile;
@@ -34,6 +35,9 @@ enum Command {
     Eval(eval::Args),
     /// Render a scene to a PNG (or a float AOV to EXR/NPY) on the GPU or software Vulkan
     Render(render::Args),
+    /// Run time against error: render under a sweep of settings and compare each with the
+    /// f64 reference; marks the Pareto front
+    Bench(bench::Args),
 }
 
 /// The outcome of a command, mapped to the exit statuses of the CLI contract.
@@ -63,6 +67,7 @@ fn main() -> ExitCode {
         Command::Check(a) => check::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Render(a) => render::run(a),
+        Command::Bench(a) => bench::run(a),
     });
     match outcome {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

@@ -44,7 +44,7 @@ pub struct Args {
     markdown: bool,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("expected WIDTHxHEIGHT (e.g. 640x480), found `{s}`");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;

@@ -664,3 +664,74 @@ fn render_without_output_is_still_a_usage_error_without_compare() {
     // --markdown only goes with --compare.
     sdfc_in(&t.0, &["render", s(&scene), "--markdown", "-o", "x.png"]).expect_code(2);
 }
+
+/// `sdfc bench`: the sweep's table (the scene's settings, the plain-marcher baseline, one
+/// change at a time), a Pareto front, and the step heat map at the image size.
+#[test]
+fn bench_prints_the_sweep_and_writes_a_heat_map() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("bench");
+    let scene = t.write(
+        "s.sdf",
+        "render { max_steps: 128 }\nscene = sphere(1) | plane([0, 1, 0], 1);\n",
+    );
+    let heat = t.path("steps.png");
+    let run = sdfc_in(
+        &t.0,
+        &[
+            "bench",
+            s(&scene),
+            "--size",
+            "16x12",
+            "--runs",
+            "1",
+            "--heatmap",
+            s(&heat),
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.describe());
+    let rows: Vec<&str> = run.stdout.lines().skip(2).collect();
+    let names = [
+        "scene's settings",
+        "plain marcher",
+        "max_steps: 64",
+        "max_steps: 256",
+        "epsilon: 1e-3",
+        "relaxation: 1.6",
+        "normals: central",
+    ];
+    for name in names {
+        assert!(
+            rows.iter().any(|r| r.contains(name)),
+            "no row for {name}:\n{}",
+            run.stdout
+        );
+    }
+    // max_steps: 128 is the scene's own setting: not repeated.
+    assert!(!run.stdout.contains("max_steps: 128"), "{}", run.stdout);
+    assert!(
+        rows.iter().any(|r| r.starts_with("* ")),
+        "no setting on the Pareto front:\n{}",
+        run.stdout
+    );
+    // Every row has its ten columns, with a finite time.
+    for r in &rows {
+        let cols: Vec<&str> = r.split("  ").filter(|c| !c.trim().is_empty()).collect();
+        assert_eq!(cols.len(), 10, "{r}");
+        let ms: f64 = cols[1].trim().parse().expect("time in ms");
+        assert!(ms.is_finite() && ms > 0.0, "{r}");
+    }
+    let img = read_png(&heat);
+    assert_eq!(img.dimensions(), (16, 12));
+}
+
+#[test]
+fn bench_of_a_broken_scene_is_an_input_error() {
+    let t = TempDir::new("bench_broken");
+    let scene = t.write("s.sdf", BROKEN);
+    let run = sdfc_in(&t.0, &["bench", s(&scene), "--size", "8x8"]);
+    assert_eq!(run.code, 1, "{}", run.describe());
+    assert!(run.stderr.contains("s.sdf:2:9"), "{}", run.stderr);
+}

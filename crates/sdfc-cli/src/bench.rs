@@ -1,0 +1,422 @@
+//! `sdfc bench`: run time against error. The scene is rendered under a sweep of the settings
+//! that trade one for the other, each timed over warm runs and compared with one f64 reference
+//! render; the table marks the settings on the Pareto front.
+
+use crate::render::{open_renderer, param_overrides, parse_size, render_failure, to_f32};
+use crate::{load_scene, Outcome};
+use indicatif::{ProgressBar, ProgressStyle};
+use sdfc_ir::scene::{Epsilon, Normals, RenderSettings, Shadows};
+use sdfc_ir::Program;
+use sdfc_reference::metrics::{self, GpuFrame, Metrics};
+use sdfc_render::{Frame, RenderOptions};
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::time::Duration;
+
+#[derive(clap::Args)]
+#[command(
+    after_help = "Each setting changes one thing from the scene's own settings, except the \
+    plain marcher of the tutorials (absolute epsilon 1e-3, no relaxation, central normals), \
+    the baseline. Time is the device's (timestamp queries) where the adapter has them, else \
+    wall time from submit to readback; the median of the warm runs, after one run that builds \
+    the pipeline. A setting marked * is on the Pareto front: no other is both faster and \
+    more accurate (fewer hit/miss mismatches away from silhouettes, then a smaller depth \
+    error)."
+)]
+pub struct Args {
+    /// The scene file (.sdf)
+    scene: PathBuf,
+    /// Image size, WIDTHxHEIGHT
+    #[arg(long, value_name = "WxH", default_value = "256x192", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Timed warm runs per setting (the median is reported)
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    runs: u32,
+    /// Override a param: NAME=VALUE, or NAME=x,y,z for vectors (repeatable)
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Print the table as Markdown
+    #[arg(long)]
+    markdown: bool,
+    /// Also write the steps per pixel of the scene's own settings as a heat map (PNG: black
+    /// for one step, through blue, red and yellow, to white at max_steps)
+    #[arg(long, value_name = "OUT.png")]
+    heatmap: Option<PathBuf>,
+}
+
+/// One setting of the sweep: its name and the settings it renders with.
+struct Setting {
+    name: String,
+    render: RenderSettings,
+}
+
+/// One row of the table.
+struct Row {
+    name: String,
+    time: Duration,
+    steps_mean: f64,
+    steps_p99: f64,
+    /// Share of pixels whose march used all of `max_steps`.
+    at_max: f64,
+    metrics: Metrics,
+    pareto: bool,
+}
+
+/// The sweep: the scene's settings, the tutorials' plain marcher, then one change at a time.
+fn settings(base: &RenderSettings) -> Vec<Setting> {
+    let mut out = vec![Setting {
+        name: "scene's settings".into(),
+        render: base.clone(),
+    }];
+    let mut add = |name: String, render: RenderSettings| {
+        if render != *base && out.iter().all(|s| s.render != render) {
+            out.push(Setting { name, render });
+        }
+    };
+    add(
+        "plain marcher (epsilon 1e-3, central normals)".into(),
+        RenderSettings {
+            epsilon: Epsilon::Absolute(1e-3),
+            relaxation: 1.0,
+            normals: Normals::Central,
+            ..base.clone()
+        },
+    );
+    for steps in [64, 128, 256, 512, 1024] {
+        add(
+            format!("max_steps: {steps}"),
+            RenderSettings {
+                max_steps: steps,
+                ..base.clone()
+            },
+        );
+    }
+    add(
+        "epsilon: pixel".into(),
+        RenderSettings {
+            epsilon: Epsilon::Pixel,
+            ..base.clone()
+        },
+    );
+    for e in [1e-2, 1e-3, 1e-4] {
+        add(
+            format!("epsilon: {e:e}"),
+            RenderSettings {
+                epsilon: Epsilon::Absolute(e),
+                ..base.clone()
+            },
+        );
+    }
+    for k in [1.0, 1.2, 1.6] {
+        add(
+            format!("relaxation: {k}"),
+            RenderSettings {
+                relaxation: k,
+                ..base.clone()
+            },
+        );
+    }
+    for (name, n) in [
+        ("central", Normals::Central),
+        ("forward", Normals::Forward),
+        ("tetrahedron", Normals::Tetrahedron),
+    ] {
+        add(
+            format!("normals: {name}"),
+            RenderSettings {
+                normals: n,
+                ..base.clone()
+            },
+        );
+    }
+    if let Shadows::Soft(_) = base.shadows {
+        add(
+            "shadows: hard".into(),
+            RenderSettings {
+                shadows: Shadows::Hard,
+                ..base.clone()
+            },
+        );
+    }
+    if let Some(ao) = base.ao {
+        for samples in [ao.samples / 2, ao.samples * 2] {
+            let mut ao = ao;
+            ao.samples = samples.clamp(1, sdfc_ir::scene::limits::MAX_AO_SAMPLES);
+            add(
+                format!("ao samples: {}", ao.samples),
+                RenderSettings {
+                    ao: Some(ao),
+                    ..base.clone()
+                },
+            );
+        }
+    }
+    out
+}
+
+pub fn run(a: Args) -> Outcome {
+    let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
+        Ok(c) => c,
+        Err(o) => return o,
+    };
+    let overrides = match param_overrides(compiled.program(), &a.params) {
+        Ok(p) => p,
+        Err(o) => return o,
+    };
+    let renderer = match open_renderer() {
+        Ok(r) => r,
+        Err(o) => return o,
+    };
+    let opts = RenderOptions {
+        width: a.size.0,
+        height: a.size.1,
+        time: 0.0,
+        params: to_f32(&overrides),
+        aovs: true,
+    };
+    let program = compiled.program();
+    let sweep = settings(&program.scene.render);
+    let progress = ProgressBar::new(sweep.len() as u64 + 1).with_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    progress.set_message("f64 reference");
+    let reference = reference(program, &overrides, a.size);
+    progress.inc(1);
+
+    let mut rows = Vec::new();
+    for setting in &sweep {
+        progress.set_message(setting.name.clone());
+        let mut variant = program.clone();
+        variant.scene.render = setting.render.clone();
+        let wgsl = match sdfc_wgsl::emit_validated(&variant, &sdfc_wgsl::Options::default()) {
+            Ok(w) => w,
+            Err(f) => {
+                progress.finish_and_clear();
+                let name = a.scene.display().to_string();
+                return crate::report::failure(&name, "", &f);
+            }
+        };
+        let mut times = Vec::new();
+        let mut last = None;
+        // The first run builds the pipeline and is not timed.
+        for i in 0..=a.runs {
+            let frame = match renderer.render_wgsl(&variant, &wgsl, &opts) {
+                Ok(f) => f,
+                Err(e) => {
+                    progress.finish_and_clear();
+                    return render_failure(&e);
+                }
+            };
+            if i > 0 {
+                times.push(frame.device_time.unwrap_or(frame.wall_time));
+            }
+            last = Some(frame);
+        }
+        let Some(frame) = last else {
+            continue;
+        };
+        if setting.render == program.scene.render {
+            if let Some(path) = &a.heatmap {
+                if let Err(e) = sdfc_render::output::write_png(path, &heatmap(&frame, &variant)) {
+                    progress.finish_and_clear();
+                    return render_failure(&e);
+                }
+            }
+        }
+        times.sort();
+        rows.push(row(setting, times[times.len() / 2], &frame, &reference));
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    mark_pareto(&mut rows);
+    let timing = if renderer.has_timestamps() {
+        "device time (timestamp queries)"
+    } else {
+        "wall time, submit to readback (the adapter has no timestamp queries)"
+    };
+    let title = format!(
+        "{} at {}x{} on {}: median {timing} of {} warm runs",
+        a.scene.display(),
+        a.size.0,
+        a.size.1,
+        renderer.adapter_description(),
+        a.runs
+    );
+    print!("{}", table(&title, &rows, a.markdown));
+    Outcome::Ok
+}
+
+fn reference(
+    program: &Program,
+    overrides: &[(String, Vec<f64>)],
+    (width, height): (u32, u32),
+) -> sdfc_reference::Image {
+    // The device sees the overrides in f32; so does the reference.
+    let in_f32: Vec<(String, Vec<f64>)> = overrides
+        .iter()
+        .map(|(n, c)| (n.clone(), c.iter().map(|&v| v as f32 as f64).collect()))
+        .collect();
+    let opts = sdfc_reference::Options {
+        width,
+        height,
+        time: 0.0,
+        params: program.scene.param_values(&in_f32),
+        threads: 0,
+    };
+    sdfc_reference::render(program, &opts)
+}
+
+fn row(setting: &Setting, time: Duration, frame: &Frame, reference: &sdfc_reference::Image) -> Row {
+    let empty = Vec::new();
+    let (depth, normal, steps) = match &frame.aovs {
+        Some(a) => (&a.depth, &a.normal, &a.steps),
+        None => (&empty, &Vec::new(), &empty),
+    };
+    let metrics = metrics::compare(
+        &GpuFrame {
+            width: frame.width,
+            height: frame.height,
+            rgba: &frame.rgba,
+            depth,
+            normal,
+            steps,
+        },
+        reference,
+    );
+    let mut sorted: Vec<f32> = steps.clone();
+    sorted.sort_by(f32::total_cmp);
+    let n = sorted.len().max(1) as f64;
+    let max = setting.render.max_steps as f32;
+    Row {
+        name: setting.name.clone(),
+        time,
+        steps_mean: sorted.iter().map(|&s| s as f64).sum::<f64>() / n,
+        steps_p99: sorted
+            .get(((sorted.len() as f64 * 0.99) as usize).min(sorted.len().saturating_sub(1)))
+            .map_or(0.0, |&s| s as f64),
+        at_max: sorted.iter().filter(|&&s| s >= max).count() as f64 / n,
+        metrics,
+        pareto: false,
+    }
+}
+
+/// The error a row is ranked by: hit/miss mismatches away from silhouettes first (a missing
+/// or extra surface is worse than any depth error), then the depth error's 99.9th percentile.
+fn error_key(r: &Row) -> (usize, f64) {
+    (r.metrics.mismatch_interior, r.metrics.depth_p999)
+}
+
+fn mark_pareto(rows: &mut [Row]) {
+    let keys: Vec<(Duration, (usize, f64))> = rows.iter().map(|r| (r.time, error_key(r))).collect();
+    for (i, r) in rows.iter_mut().enumerate() {
+        let (t, e) = keys[i];
+        let dominated = keys
+            .iter()
+            .enumerate()
+            .any(|(j, &(tj, ej))| j != i && tj <= t && ej <= e && (tj < t || ej < e));
+        r.pareto = !dominated;
+    }
+}
+
+const HEADER: [&str; 10] = [
+    "setting",
+    "time ms",
+    "steps mean",
+    "steps p99",
+    "at max",
+    "depth p99.9",
+    "miss int",
+    "miss sil",
+    "normal med°",
+    "PSNR dB",
+];
+
+fn cells(r: &Row) -> [String; 10] {
+    let m = &r.metrics;
+    [
+        format!("{}{}", if r.pareto { "* " } else { "  " }, r.name),
+        format!("{:.3}", r.time.as_secs_f64() * 1e3),
+        format!("{:.1}", r.steps_mean),
+        format!("{:.0}", r.steps_p99),
+        format!("{:.2}%", 100.0 * r.at_max),
+        format!("{:.2e}", m.depth_p999),
+        m.mismatch_interior.to_string(),
+        m.mismatch_silhouette.to_string(),
+        format!("{:.4}", m.normal_median_deg),
+        format!("{:.1}", m.psnr_db),
+    ]
+}
+
+fn table(title: &str, rows: &[Row], markdown: bool) -> String {
+    let body: Vec<[String; 10]> = rows.iter().map(cells).collect();
+    let mut s = String::new();
+    if markdown {
+        let _ = writeln!(s, "{title}\n");
+        let _ = writeln!(s, "| {} |", HEADER.join(" | "));
+        let _ = writeln!(s, "|---{}|", "|---:".repeat(HEADER.len() - 1));
+        for c in &body {
+            let _ = writeln!(s, "| {} |", c.join(" | "));
+        }
+        return s;
+    }
+    let widths: Vec<usize> = (0..HEADER.len())
+        .map(|i| {
+            body.iter()
+                .map(|c| c[i].chars().count())
+                .chain([HEADER[i].chars().count()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let _ = writeln!(s, "{title}");
+    let line = |cells: &[String]| {
+        let mut l = String::new();
+        for (i, c) in cells.iter().enumerate() {
+            let pad = widths[i].saturating_sub(c.chars().count());
+            if i == 0 {
+                let _ = write!(l, "{c}{}", " ".repeat(pad));
+            } else {
+                let _ = write!(l, "  {}{c}", " ".repeat(pad));
+            }
+        }
+        l
+    };
+    let header: Vec<String> = HEADER.iter().map(|h| h.to_string()).collect();
+    let _ = writeln!(s, "{}", line(&header));
+    for c in &body {
+        let _ = writeln!(s, "{}", line(c));
+    }
+    s
+}
+
+/// The steps AOV as colours: black at one step, then blue, red, yellow, white at max_steps.
+fn heatmap(frame: &Frame, program: &Program) -> Frame {
+    let max = program.scene.render.max_steps.max(2) as f32;
+    let stops: [[f32; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.1, 0.2, 0.9],
+        [0.9, 0.1, 0.1],
+        [1.0, 0.9, 0.1],
+        [1.0, 1.0, 1.0],
+    ];
+    let steps = frame.aovs.as_ref().map_or(&[][..], |a| &a.steps[..]);
+    let mut rgba = Vec::with_capacity(steps.len() * 4);
+    for &s in steps {
+        let x = ((s - 1.0) / (max - 1.0)).clamp(0.0, 1.0) * (stops.len() - 1) as f32;
+        let i = (x as usize).min(stops.len() - 2);
+        let f = x - i as f32;
+        for (a, b) in stops[i].iter().zip(&stops[i + 1]) {
+            rgba.push(((a + (b - a) * f) * 255.0).round() as u8);
+        }
+        rgba.push(255);
+    }
+    Frame {
+        width: frame.width,
+        height: frame.height,
+        rgba,
+        aovs: None,
+        device_time: None,
+        wall_time: Duration::ZERO,
+    }
+}

@@ -44,13 +44,7 @@ fn compile(name: &str, source: &str, opts: &Options) -> Compiled {
 
 /// The optimised IR as `sdfc compile --emit opt-ir` prints it.
 fn opt_ir(c: &Compiled) -> String {
-    let p = c.program();
-    format!(
-        "{}\n{}\n{}",
-        sdfc_ir::dump::scene_text(&p.scene),
-        sdfc_ir::dump::func_text(&p.distance),
-        sdfc_ir::dump::func_text(&p.material)
-    )
+    sdfc_ir::dump::program_text(c.program())
 }
 
 /// The text of `fn NAME(...` up to its closing brace at the start of a line.

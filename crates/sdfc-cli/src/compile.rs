@@ -74,15 +74,7 @@ pub fn run(a: Args) -> Outcome {
         match a.emit {
             Emit::Wgsl => compiled.wgsl,
             Emit::Ir => sdfc_ir::dump::scene_text(&compiled.stages.lowered),
-            _ => {
-                let p = compiled.program();
-                format!(
-                    "{}\n{}\n{}",
-                    sdfc_ir::dump::scene_text(&p.scene),
-                    sdfc_ir::dump::func_text(&p.distance),
-                    sdfc_ir::dump::func_text(&p.material)
-                )
-            }
+            _ => sdfc_ir::dump::program_text(compiled.program()),
         }
     };
     match &a.output {

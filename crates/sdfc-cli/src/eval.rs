@@ -81,6 +81,7 @@ pub fn run(a: Args) -> Outcome {
         for p in points {
             let inputs = Inputs {
                 point: p,
+                ray: [0.0; 3],
                 params: params.clone(),
                 time: a.time,
             };

@@ -62,6 +62,15 @@ pub fn graph_text(g: &Graph, only: Option<&[bool]>) -> String {
     s
 }
 
+/// The optimised program as `sdfc compile --emit opt-ir` prints it: the scene, then
+/// `scene_distance`, `scene_distance_ray` where there is one, and `scene_material`.
+pub fn program_text(p: &crate::Program) -> String {
+    let mut parts = vec![scene_text(&p.scene), func_text(&p.distance)];
+    parts.extend(p.distance_ray.as_ref().map(func_text));
+    parts.push(func_text(&p.material));
+    parts.join("\n")
+}
+
 pub fn func_text(f: &Func) -> String {
     let mut s = format!("fn {} ({} nodes)\n", f.name, f.graph.len());
     s += &graph_text(&f.graph, None);

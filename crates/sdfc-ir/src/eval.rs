@@ -11,6 +11,8 @@ use crate::value::{dot, length, zip, zip3, Float, Value};
 #[derive(Clone, Debug)]
 pub struct Inputs<T> {
     pub point: [T; 3],
+    /// The ray direction of `scene_distance_ray` (zero elsewhere).
+    pub ray: [T; 3],
     pub params: Vec<Value<T>>,
     pub time: T,
 }
@@ -19,6 +21,7 @@ impl<T: Float> Inputs<T> {
     pub fn at(point: [T; 3]) -> Inputs<T> {
         Inputs {
             point,
+            ray: [T::zero(); 3],
             params: Vec::new(),
             time: T::zero(),
         }
@@ -71,6 +74,7 @@ fn eval_graph_in<T: Float>(
             .collect();
         let v = match node.op {
             Op::Point => Value::V3(inputs.point),
+            Op::Ray => Value::V3(inputs.ray),
             Op::Time => Value::F(inputs.time),
             Op::Param(k) => inputs
                 .params
@@ -96,6 +100,7 @@ fn eval_graph_in<T: Float>(
                     let r = calls.entry((func, node.args()[0])).or_insert_with(|| {
                         let sub = Inputs {
                             point: *p,
+                            ray: inputs.ray,
                             params: inputs.params.clone(),
                             time: inputs.time,
                         };
@@ -129,7 +134,9 @@ pub fn apply<T: Float>(op: Op, ty: Ty, a: &[Value<T>]) -> Value<T> {
     };
     match op {
         Op::Const(c) => c.to_value().cast(),
-        Op::Point | Op::Time | Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => zero_of(ty),
+        Op::Point | Op::Ray | Op::Time | Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => {
+            zero_of(ty)
+        }
         Op::Neg => a[0].map(|x| -x),
         Op::Add => zip(&a[0], &a[1], |x, y| x + y),
         Op::Sub => zip(&a[0], &a[1], |x, y| x - y),

@@ -17,6 +17,8 @@ pub struct Func {
 pub enum FuncKind {
     /// One result: the distance.
     Distance,
+    /// `scene_distance_ray(p, rd)`: the distance for marching along `rd`, one result.
+    DistanceRay,
     /// `scene_material`: albedo and phong.
     Material,
     /// A group of a large union: distance, albedo and phong. Callers that need only the

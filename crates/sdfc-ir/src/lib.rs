@@ -31,6 +31,9 @@ pub struct Program {
     /// The scene after the shape-level passes (settings, materials, params, lights, camera).
     pub scene: Scene,
     pub distance: Func,
+    /// `scene_distance_ray(p, rd)`, which the marcher steps with where the scene has nodes
+    /// whose slope along a ray is below their isotropic bound (`to_ssa::along_ray`).
+    pub distance_ray: Option<Func>,
     pub material: Func,
     /// Group functions called by `distance`, `material` and each other (`Op::Call`).
     pub groups: Vec<Func>,
@@ -48,6 +51,7 @@ pub struct Program {
 pub struct Relative {
     pub origin: [f32; 3],
     pub distance: Func,
+    pub distance_ray: Option<Func>,
     pub material: Func,
     pub groups: Vec<Func>,
     /// The scene's lights moved by -origin.
@@ -101,6 +105,7 @@ pub fn compile_with(
         f
     };
     let distance = opt(&funcs.distance);
+    let distance_ray = funcs.distance_ray.as_ref().map(&mut opt);
     let material = opt(&funcs.material);
     let groups: Vec<Func> = funcs.groups.iter().map(&mut opt).collect();
     let relative = passes::relative::wanted(&scene).then(|| {
@@ -110,6 +115,7 @@ pub fn compile_with(
         let rel = to_ssa::functions(&passes::merge::run(&shifted), opts.cull);
         Relative {
             origin,
+            distance_ray: rel.distance_ray.as_ref().map(&mut opt),
             distance: opt(&rel.distance),
             material: opt(&rel.material),
             groups: rel.groups.iter().map(&mut opt).collect(),
@@ -118,11 +124,15 @@ pub fn compile_with(
     });
     // A non-finite constant that reached a function unfolded (a transform of infinite size,
     // say) is as much an error as one that folding met.
-    let rel_funcs = relative
-        .iter()
-        .flat_map(|r| [&r.distance, &r.material].into_iter().chain(&r.groups));
+    let rel_funcs = relative.iter().flat_map(|r| {
+        [&r.distance, &r.material]
+            .into_iter()
+            .chain(&r.distance_ray)
+            .chain(&r.groups)
+    });
     for f in [&distance, &material]
         .into_iter()
+        .chain(&distance_ray)
         .chain(&groups)
         .chain(rel_funcs.clone())
     {
@@ -152,6 +162,7 @@ pub fn compile_with(
     }
     for f in [&distance, &material]
         .into_iter()
+        .chain(&distance_ray)
         .chain(&groups)
         .chain(rel_funcs)
     {
@@ -171,6 +182,7 @@ pub fn compile_with(
     let program = Program {
         scene: merged,
         distance,
+        distance_ray,
         material,
         groups,
         analysis,

@@ -9,6 +9,9 @@ pub enum Op {
     Const(Const),
     /// The point a function is evaluated at (`p: vec3<f32>`).
     Point,
+    /// The unit direction of the ray being marched (`rd: vec3<f32>`); only in
+    /// `scene_distance_ray`, whose bound-only nodes divide by their slope along it.
+    Ray,
     /// A runtime `param`, by index; its type is the node's.
     Param(u16),
     /// Seconds, from the frame uniform.

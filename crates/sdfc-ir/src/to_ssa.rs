@@ -40,6 +40,9 @@ pub struct Functions {
     pub material: Func,
     /// Group functions that the two call (`Op::Call`), by index.
     pub groups: Vec<Func>,
+    /// `scene_distance_ray(p, rd) -> f32` for the marcher, where some node of the scene can
+    /// step further along a known direction than its isotropic bound allows (`along_ray`).
+    pub distance_ray: Option<Func>,
 }
 
 /// Builds `scene_distance` and `scene_material` (and their group functions).
@@ -70,10 +73,32 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
         graph: b.g,
         results: m.to_vec(),
     };
+    groups = b.groups;
+    let along = info.iter().any(|i| i.partials.is_some());
+    let mut distance_ray = None;
+    if along {
+        let mut b = Builder::new(scene, &counts, info, false, groups);
+        b.cull = cull;
+        let p = b.point();
+        let rd = b.g.op(Op::Ray, &[]);
+        b.g.set_hint(rd, "rd");
+        b.dir = Some(rd);
+        let (d, _) = b.shape(scene.root, p, 0);
+        if b.used_dir {
+            distance_ray = Some(Func {
+                name: "scene_distance_ray".into(),
+                kind: FuncKind::DistanceRay,
+                graph: b.g,
+                results: vec![d],
+            });
+        }
+        groups = b.groups;
+    }
     Functions {
         distance,
         material,
-        groups: b.groups.funcs,
+        groups: groups.funcs,
+        distance_ray,
     }
 }
 
@@ -84,6 +109,10 @@ struct Groups {
     funcs: Vec<Func>,
     index: FxHashMap<(Vec<ShapeId>, u32), u32>,
 }
+
+/// A shape built at a point, by shape, point, material, direction (`dir`, with `dir_signs`
+/// in the top bit; all ones for none) and `values_matter`.
+type MemoKey = (ShapeId, NodeId, u32, u32, bool);
 
 struct Builder<'s> {
     scene: &'s Scene,
@@ -99,7 +128,22 @@ struct Builder<'s> {
     g: Graph,
     materials: bool,
     imported: FxHashMap<NodeId, NodeId>,
-    memo: FxHashMap<(ShapeId, NodeId, u32), (NodeId, Option<Mat>)>,
+    memo: FxHashMap<MemoKey, (NodeId, Option<Mat>)>,
+    /// In `scene_distance_ray`: the ray's direction in the current shape's coordinates
+    /// (`None` where no map keeps it known: everywhere else, and under warps).
+    dir: Option<NodeId>,
+    /// Whether `dir` is known only up to the signs of its components, some of which may
+    /// also have stopped (below a mirror or an elongation): a rotation further down then
+    /// loses it, since the bound needs `|u|` per component in the node's own frame.
+    dir_signs: bool,
+    /// Whether the current node's values shape the surface (below a smooth blend, `round`,
+    /// `onion`, a displaced child, a warp, and in group functions, which any context may
+    /// call), or only their signs do. Only where they do not may a node replace its value by
+    /// a larger bound: the far bound of `displace` and `heightfield`, the ray's slope.
+    values_matter: bool,
+    /// Whether some node divided by its slope along `dir` (else the ray function is not
+    /// worth emitting).
+    used_dir: bool,
     consts: FxHashMap<NodeId, Option<Value<f32>>>,
     groups: Groups,
 }
@@ -122,6 +166,10 @@ impl<'s> Builder<'s> {
             materials,
             imported: FxHashMap::default(),
             memo: FxHashMap::default(),
+            dir: None,
+            dir_signs: false,
+            values_matter: false,
+            used_dir: false,
             consts: FxHashMap::default(),
             groups,
         }
@@ -160,6 +208,7 @@ impl<'s> Builder<'s> {
                     std::mem::take(&mut self.groups),
                 );
                 sub.cull = self.cull;
+                sub.values_matter = true;
                 if let [only] = children {
                     sub.body_of = Some(*only);
                 }
@@ -284,7 +333,14 @@ impl<'s> Builder<'s> {
     /// The distance (and material) of shape `s` at point `p`, with `mat` the material of
     /// parts that name none.
     fn shape(&mut self, s: ShapeId, p: NodeId, mat: u32) -> (NodeId, Option<Mat>) {
-        let key = (s, p, if self.materials { mat } else { 0 });
+        let key = (
+            s,
+            p,
+            if self.materials { mat } else { 0 },
+            self.dir
+                .map_or(u32::MAX, |d| d.0 | (u32::from(self.dir_signs) << 31)),
+            self.values_matter,
+        );
         if let Some(r) = self.memo.get(&key) {
             return *r;
         }
@@ -324,9 +380,10 @@ impl<'s> Builder<'s> {
                 lambda,
                 lipschitz,
             } => {
-                let (base, m) = self.shape(*child, p, mat);
+                let (base, m) = self.isotropic(|b| b.shape(*child, p, mat));
                 let f = self.import(*body, Some((*lambda, &[p])));
                 let l = self.divisor(s, *lipschitz);
+                let l = self.along_ray(s, l, false);
                 let d = self.op(Op::Add, &[base, f]);
                 let d = self.op(Op::Div, &[d, l]);
                 let d = self.hinted(d, "d");
@@ -334,7 +391,9 @@ impl<'s> Builder<'s> {
                 // |f|; base is 1-Lipschitz, so base - M is a lower bound on the distance to
                 // it that needs no divisor. Far from the shape it takes the full steps the
                 // divided field would not.
-                let reach = self.info[s.index()].reach.filter(|_| self.divides(l));
+                let reach = self.info[s.index()]
+                    .reach
+                    .filter(|_| !self.values_matter && self.divides(l));
                 let d = match reach {
                     Some(reach) => {
                         let reach = self.f(warp::f32_up(reach));
@@ -349,10 +408,16 @@ impl<'s> Builder<'s> {
                 op,
                 smooth,
                 children,
-            } => self.combine(*op, *smooth, children, p, mat),
+            } => {
+                if smooth.is_some() {
+                    self.isotropic(|b| b.combine(*op, *smooth, children, p, mat))
+                } else {
+                    self.combine(*op, *smooth, children, p, mat)
+                }
+            }
             ShapeKind::Map { map, child } => self.map(map, *child, p, mat),
             ShapeKind::Modify { modifier, child } => {
-                let (d, m) = self.shape(*child, p, mat);
+                let (d, m) = self.isotropic(|b| b.shape(*child, p, mat));
                 let d = match *modifier {
                     DistMod::Round(r) => {
                         let r = self.import(r, None);
@@ -371,7 +436,10 @@ impl<'s> Builder<'s> {
                 map,
                 child,
                 lipschitz,
-            } => self.warp(s, *map, *child, *lipschitz, p, mat),
+            } => {
+                // The warp's own divisor is isotropic; below it the direction is not tracked.
+                self.isotropic(|b| b.warp(s, *map, *child, *lipschitz, p, mat))
+            }
             ShapeKind::Heightfield { body, lambda, .. } => {
                 // (p.y - h(p.x, p.z)) / sqrt(1 + L^2)
                 let x = self.op(Op::Swizzle(Swizzle::new(&[0])), &[p]);
@@ -380,10 +448,13 @@ impl<'s> Builder<'s> {
                 let h = self.import(*body, Some((*lambda, &[x, z])));
                 let d = self.op(Op::Sub, &[y, h]);
                 let l = self.divisor(s, None);
+                let l = self.along_ray(s, l, true);
                 let d = self.op(Op::Div, &[d, l]);
                 // Above the highest point of the terrain, the height over it is a lower bound
                 // on the distance that needs no divisor.
-                let top = self.info[s.index()].reach.filter(|_| self.divides(l));
+                let top = self.info[s.index()]
+                    .reach
+                    .filter(|_| !self.values_matter && self.divides(l));
                 let d = match top {
                     Some(top) => {
                         let d = self.hinted(d, "d");
@@ -401,6 +472,48 @@ impl<'s> Builder<'s> {
         };
         self.memo.insert(key, out);
         out
+    }
+
+    /// Builds `f` without the ray direction. A node may divide by its slope along the ray
+    /// only where the scene's surface does not depend on the scale of its value: below hard
+    /// unions, intersections and differences, materials and point maps, whose zero sets a
+    /// positive factor on one operand leaves alone. A smooth blend, `round`, `onion` and the
+    /// child of a `displace` add to or blend the value itself, so below them the ray
+    /// function must give exactly the isotropic distance, or marching would find another
+    /// surface than the one shaded.
+    fn isotropic<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
+        let (dir, matter) = (self.dir.take(), self.values_matter);
+        self.values_matter = true;
+        let out = f(self);
+        (self.dir, self.values_matter) = (dir, matter);
+        out
+    }
+
+    /// In `scene_distance_ray`, the divisor `l` of a `displace` or `heightfield` node, or its
+    /// slope along the ray where that is smaller: sphere tracing along a ray needs only a
+    /// bound on the field's rate of change along the ray (segment tracing, Galin et al.
+    /// 2020). With `v` the bounds on the point function's partial derivatives and `u` the
+    /// unit direction: `1 + v . |u|` for a displacement (the child's distance changes at
+    /// rate at most 1); `|u.y| + v.x |u.x| + v.z |u.z|` for `p.y - h(p.x, p.z)`, at least
+    /// 1/8 so that a ray along a level terrain still steps by a finite amount.
+    fn along_ray(&mut self, s: ShapeId, l: NodeId, heightfield: bool) -> NodeId {
+        let (Some(u), Some(v)) = (self.dir, self.info[s.index()].partials) else {
+            return l;
+        };
+        let v = if heightfield { [v[0], 1.0, v[2]] } else { v };
+        let v = self.g.vec3(v.map(warp::f32_up));
+        let a = self.g.builtin(Builtin::Abs, &[u]);
+        let slope = self.g.builtin(Builtin::Dot, &[v, a]);
+        let slope = if heightfield {
+            let floor = self.f(0.125);
+            self.g.builtin(Builtin::Max, &[slope, floor])
+        } else {
+            let one = self.f(1.0);
+            self.op(Op::Add, &[one, slope])
+        };
+        self.used_dir = true;
+        let l = self.g.builtin(Builtin::Min, &[l, slope]);
+        self.hinted(l, "l")
     }
 
     /// Whether dividing by `l` may shrink a step: not for a constant divisor of 1.
@@ -639,21 +752,43 @@ impl<'s> Builder<'s> {
         p: NodeId,
         mat: u32,
     ) -> (NodeId, Option<Mat>) {
+        // The ray's direction in the child's coordinates: turned with the point; a uniform
+        // scale keeps it (the child's distance is scaled back); repetitions translate only.
+        // Mirrors and elongation flip the signs of its components or stop some of them, on
+        // either side of a plane the segment may cross: the slope bound, taken on |u| per
+        // component, covers that, but not once a rotation mixes the components.
+        let (dir, dir_signs) = (self.dir, self.dir_signs);
+        if matches!(map, PointMap::Mirror(_) | PointMap::Elongate(_)) {
+            self.dir_signs = true;
+        }
         let q = match map {
             PointMap::Affine { m, o, s } => {
                 let mut q = p;
                 if let Some(m) = m {
-                    q = match const_value(&self.scene.values, *m, &mut self.consts) {
+                    let turn = match const_value(&self.scene.values, *m, &mut self.consts) {
                         Some(Value::M3(c)) if axis_rotation(&c).is_some() => {
                             let (helper, cos, sin) =
                                 axis_rotation(&c).unwrap_or((Helper::RotateY, 1.0, 0.0));
                             let (cos, sin) = (self.f(cos), self.f(sin));
-                            self.op(Op::Helper(helper), &[q, cos, sin])
+                            (Op::Helper(helper), vec![cos, sin])
                         }
                         _ => {
                             let m = self.import(*m, None);
-                            self.op(Op::MatMul, &[m, q])
+                            (Op::MatMul, vec![m])
                         }
+                    };
+                    let apply = |b: &mut Self, x: NodeId| {
+                        let args: Vec<NodeId> = match turn.0 {
+                            Op::MatMul => vec![turn.1[0], x],
+                            _ => [x].into_iter().chain(turn.1.iter().copied()).collect(),
+                        };
+                        b.op(turn.0, &args)
+                    };
+                    q = apply(self, q);
+                    self.dir = if dir_signs {
+                        None
+                    } else {
+                        dir.map(|u| apply(self, u))
                     };
                 }
                 if let Some(o) = o {
@@ -726,6 +861,7 @@ impl<'s> Builder<'s> {
         };
         let q = self.hinted(q, "q");
         let (d, m) = self.shape(child, q, mat);
+        (self.dir, self.dir_signs) = (dir, dir_signs);
         if let PointMap::Affine { s: Some(s), .. } = map {
             let s = self.import(*s, None);
             let d = self.op(Op::Mul, &[d, s]);

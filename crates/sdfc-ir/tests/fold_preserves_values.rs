@@ -134,7 +134,7 @@ proptest! {
         let root = build(&mut g, &e);
         let before = Func { name: "t".into(), kind: sdfc_ir::func::FuncKind::Distance, graph: g, results: vec![root] };
         let (after, _) = sdfc_ir::passes::optimise(&before);
-        let inputs = Inputs { point: [0.0; 3], params: params.iter().map(|x| Value::F(*x)).collect(), time: 0.0 };
+        let inputs = Inputs { point: [0.0; 3], ray: [0.0; 3], params: params.iter().map(|x| Value::F(*x)).collect(), time: 0.0 };
         let vb = eval_graph(&before.graph, &before.results, &inputs);
         let va = eval_graph(&after.graph, &after.results, &inputs);
         prop_assert!(same(&vb[0], &va[0]), "before {:?} after {:?}\n{}", vb[0], va[0], sdfc_ir::dump::func_text(&after));

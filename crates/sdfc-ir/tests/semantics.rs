@@ -208,6 +208,7 @@ fn params_and_time_stay_symbolic() {
     let prog = program("param r = 1; scene = sphere(r + time);");
     let inputs = Inputs {
         point: [5.0, 0.0, 0.0],
+        ray: [0.0; 3],
         params: vec![Value::F(2.0)],
         time: 0.5,
     };

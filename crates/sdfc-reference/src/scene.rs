@@ -40,6 +40,7 @@ impl<'a> SceneEval<'a> {
     fn inputs(&self, p: V3) -> Inputs<f64> {
         Inputs {
             point: p,
+            ray: [0.0; 3],
             params: self.params.clone(),
             time: self.time,
         }

@@ -127,6 +127,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             s += &parts[0];
             let _ = writeln!(s, "    return {};", r[0]);
         }
+        FuncKind::DistanceRay => {
+            let _ = writeln!(s, "fn {}(p: vec3<f32>, rd: vec3<f32>) -> f32 {{", f.name);
+            s += &parts[0];
+            let _ = writeln!(s, "    return {};", r[0]);
+        }
         FuncKind::Material => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> SceneMaterial {{", f.name);
             s += &parts[0];
@@ -171,6 +176,7 @@ fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
     match node.op {
         Op::Const(c) => (literal::value(&c.to_value()), true),
         Op::Point => ("p".into(), true),
+        Op::Ray => ("rd".into(), true),
         Op::Time => ("scene_time".into(), true),
         Op::Param(i) => {
             let sw = match node.ty {

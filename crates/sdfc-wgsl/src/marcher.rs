@@ -12,21 +12,41 @@ use std::fmt::Write;
 pub struct View<'a> {
     pub origin: [f32; 3],
     pub lights: &'a [Light],
+    /// Whether the scene has `scene_distance_ray`, which the march and the hit refinement
+    /// then call instead of `scene_distance` (shadows, AO and normals keep the latter).
+    pub along_ray: bool,
+}
+
+/// The text of a marcher part, calling `scene_distance_ray` along the ray when the scene
+/// has it. The parts sample the ray as `scene_distance(ro + rd * t)`; a test checks that
+/// each still does.
+pub(crate) fn along_ray(part: &str, on: bool) -> String {
+    if on {
+        part.replace(
+            "scene_distance(ro + rd * t)",
+            "scene_distance_ray(ro + rd * t, rd)",
+        )
+    } else {
+        part.to_string()
+    }
 }
 
 pub fn emit(scene: &Scene, view: &View) -> String {
     let mut s = String::new();
     s += &constants(scene, view.origin);
     s += "\n";
-    s += parts::HIT;
+    s += &along_ray(parts::HIT, view.along_ray);
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
-    s += if scene.render.relaxation > 1.0 {
-        parts::MARCH_RELAXED
-    } else {
-        parts::MARCH_PLAIN
-    };
+    s += &along_ray(
+        if scene.render.relaxation > 1.0 {
+            parts::MARCH_RELAXED
+        } else {
+            parts::MARCH_PLAIN
+        },
+        view.along_ray,
+    );
     s += "\n";
     s += parts::CAMERA;
     s += "\n";
@@ -226,5 +246,22 @@ fn finish(scene: &Scene) -> String {
             vec3(f.color),
             float(f.density)
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::along_ray;
+    use crate::parts;
+
+    /// `along_ray` finds its text in every part it rewrites: were a part's ray sample
+    /// written differently, its march would silently keep the isotropic bound.
+    #[test]
+    fn every_ray_sampling_part_is_rewritten() {
+        for part in [parts::HIT, parts::MARCH_PLAIN, parts::MARCH_RELAXED] {
+            let rewritten = along_ray(part, true);
+            assert!(rewritten.contains("scene_distance_ray(ro + rd * t, rd)"));
+            assert!(!rewritten.contains("scene_distance(ro + rd * t)"));
+        }
     }
 }

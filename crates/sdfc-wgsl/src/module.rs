@@ -19,11 +19,17 @@ pub fn emit(p: &Program, lib: bool) -> String {
     // The render shader marches in camera-relative coordinates where the program has them;
     // the library keeps the world coordinates its callers pass.
     let relative = p.relative.as_ref().filter(|_| !lib);
-    let (distance, material, groups) = match relative {
-        Some(r) => (&r.distance, &r.material, &r.groups),
-        None => (&p.distance, &p.material, &p.groups),
+    let (distance, material, groups, distance_ray) = match relative {
+        Some(r) => (&r.distance, &r.material, &r.groups, &r.distance_ray),
+        None => (&p.distance, &p.material, &p.groups, &p.distance_ray),
     };
-    let funcs: Vec<&Func> = [distance, material].into_iter().chain(groups).collect();
+    // Only the marcher calls the ray form.
+    let distance_ray = distance_ray.as_ref().filter(|_| !lib);
+    let funcs: Vec<&Func> = [distance, material]
+        .into_iter()
+        .chain(distance_ray)
+        .chain(groups)
+        .collect();
     let uses_time = funcs.iter().any(|f| uses(f, |o| *o == Op::Time));
     let uses_params = funcs.iter().any(|f| uses(f, |o| matches!(o, Op::Param(_))));
     let n_params = p.scene.params.len();
@@ -108,6 +114,14 @@ pub fn emit(p: &Program, lib: bool) -> String {
         groups,
         "The signed distance from p to the scene (the march loop calls only this).",
     );
+    if let Some(f) = distance_ray {
+        s += "\n";
+        s += &emit_func(
+            f,
+            groups,
+            "The distance for marching along the unit direction rd: bound-only nodes divide by their slope along rd where it is below their bound in every direction.",
+        );
+    }
     s += "\n";
     s += &emit_func(
         material,
@@ -120,10 +134,12 @@ pub fn emit(p: &Program, lib: bool) -> String {
             Some(r) => marcher::View {
                 origin: r.origin,
                 lights: &r.lights,
+                along_ray: distance_ray.is_some(),
             },
             None => marcher::View {
                 origin: [0.0; 3],
                 lights: &p.scene.lights,
+                along_ray: distance_ray.is_some(),
             },
         };
         s += &marcher::emit(&p.scene, &view);

@@ -228,9 +228,12 @@ pub fn bound(g: &Graph, root: NodeId, input: &dyn Fn(Op, usize) -> Option<Vec<Co
                     .map(|x| Comp::constant(*x as f64))
                     .collect(),
             },
-            op @ (Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. }) => {
-                input(op, width).unwrap_or_else(|| vec![Comp::UNKNOWN; width])
-            }
+            op @ (Op::Point
+            | Op::Ray
+            | Op::Param(_)
+            | Op::Time
+            | Op::LambdaArg { .. }
+            | Op::Call { .. }) => input(op, width).unwrap_or_else(|| vec![Comp::UNKNOWN; width]),
             op => apply(op, &args, width),
         };
         vals[i] = if out.len() == width {

@@ -76,6 +76,10 @@ pub struct NodeInfo {
     /// emitted field uses it for a second, cheaper bound that takes full steps far from the
     /// surface, where the divided field would crawl.
     pub reach: Option<f64>,
+    /// `displace` and `heightfield`: bounds on the absolute partial derivatives of the point
+    /// function (the displacement; the height, by x and z with 0 for y), where all are finite.
+    /// `scene_distance_ray` divides by the slope along the ray that they bound.
+    pub partials: Option<[f64; 3]>,
 }
 
 /// The analysis of a scene, node by node (indexed like `Scene::shapes`).
@@ -202,6 +206,7 @@ impl Analyser<'_> {
             source: None,
             normalises: false,
             reach: None,
+            partials: None,
         };
         match &node.kind {
             ShapeKind::Prim { prim, args } => {
@@ -234,6 +239,7 @@ impl Analyser<'_> {
                     }),
                     normalises: true,
                     reach: None,
+                    partials: None,
                 }
             }
             ShapeKind::Displace {
@@ -286,6 +292,10 @@ impl Analyser<'_> {
                     source: Some(source),
                     normalises: true,
                     reach: grow.is_finite().then_some(grow),
+                    partials: slope
+                        .first()
+                        .map(|c| c.v)
+                        .filter(|v| v.iter().all(|x| x.is_finite())),
                 }
             }
             ShapeKind::Heightfield {
@@ -336,6 +346,9 @@ impl Analyser<'_> {
                     source: Some(source),
                     normalises: true,
                     reach: top,
+                    partials: height
+                        .map(|c| c.v)
+                        .filter(|v| v.iter().all(|x| x.is_finite())),
                 }
             }
             ShapeKind::Warp {
@@ -353,6 +366,7 @@ impl Analyser<'_> {
                     source: Some(source),
                     normalises: true,
                     reach: None,
+                    partials: None,
                 }
             }
             ShapeKind::Combine {
@@ -647,6 +661,7 @@ impl Analyser<'_> {
             if let (Some(fs), Some(x)) = (&child_fn, v.first_mut()) {
                 let inputs = crate::eval::Inputs {
                     point: p,
+                    ray: [0.0; 3],
                     params: params_now.clone(),
                     time: 0.0,
                 };

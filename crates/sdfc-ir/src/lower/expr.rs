@@ -479,7 +479,12 @@ impl<'a> Lowerer<'a> {
         let node = *self.g.node(n);
         let out = match node.op {
             Op::Const(c) => Some(c.to_value()),
-            Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => None,
+            Op::Point
+            | Op::Ray
+            | Op::Param(_)
+            | Op::Time
+            | Op::LambdaArg { .. }
+            | Op::Call { .. } => None,
             op => {
                 let mut args = Vec::new();
                 for a in node.args() {

@@ -17,7 +17,13 @@ pub const NON_FINITE: &str = "this constant expression is not finite (infinity o
 pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Option<Value<f32>> {
     if matches!(
         op,
-        Op::Const(_) | Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. }
+        Op::Const(_)
+            | Op::Point
+            | Op::Ray
+            | Op::Param(_)
+            | Op::Time
+            | Op::LambdaArg { .. }
+            | Op::Call { .. }
     ) {
         return None;
     }
@@ -48,7 +54,9 @@ pub fn const_value(
     let node = *g.node(id);
     let out = match node.op {
         Op::Const(c) => Some(c.to_value()),
-        Op::Point | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => None,
+        Op::Point | Op::Ray | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => {
+            None
+        }
         op => {
             let mut args = Vec::new();
             let mut all = true;

@@ -1,6 +1,6 @@
 //! Algebraic simplification with rules that keep every value (compared as IEEE values, so
 //! `x + 0 -> x` may turn a `-0` into `+0`, which no distance or colour can observe):
-//! `x * 1`, `x / 1`, `x + 0`, `x - 0`, `-(-x)`, `x + -y`, `min(x, x)`, `select(a, a, c)`,
+//! `x * 1`, `x / 1`, `x + 0`, `x - 0`, `-(-x)`, `x + -y`, `x - (-c)`, `min(x, x)`, `select(a, a, c)`,
 //! selects on a constant condition, identity swizzles and matrices, and the like.
 
 use crate::graph::{Graph, NodeId};
@@ -58,6 +58,15 @@ pub fn simplify(g: &mut Graph, op: Op, a: &[NodeId]) -> Option<NodeId> {
         Op::Sub if g.node(a[1]).op == Op::Neg => {
             let y = g.node(a[1]).args()[0];
             Some(g.op(Op::Add, &[a[0], y]))
+        }
+        // x - c == x + (-c) exactly; a scalar constant below zero reads better added.
+        Op::Sub if matches!(g.as_const(a[1]), Some(Value::F(c)) if c < 0.0) => {
+            let c = match g.as_const(a[1]) {
+                Some(Value::F(c)) => -c,
+                _ => return None,
+            };
+            let c = g.f32(c);
+            Some(g.op(Op::Add, &[a[0], c]))
         }
         Op::Builtin(Builtin::Min | Builtin::Max) if a[0] == a[1] => Some(a[0]),
         Op::Builtin(Builtin::Abs) if g.node(a[0]).op == Op::Builtin(Builtin::Abs) => Some(a[0]),

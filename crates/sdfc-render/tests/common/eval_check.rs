@@ -65,6 +65,7 @@ pub fn agree(
     for (p, &g) in pts.iter().zip(&gpu) {
         let inputs = Inputs {
             point: [p[0] as f64, p[1] as f64, p[2] as f64],
+            ray: [0.0; 3],
             params: param_values.clone(),
             time: time as f64,
         };

@@ -309,14 +309,22 @@ fn error_key(r: &Row) -> (usize, f64) {
 
 fn mark_pareto(rows: &mut [Row]) {
     let keys: Vec<(Duration, (usize, f64))> = rows.iter().map(|r| (r.time, error_key(r))).collect();
-    for (i, r) in rows.iter_mut().enumerate() {
-        let (t, e) = keys[i];
-        let dominated = keys
-            .iter()
-            .enumerate()
-            .any(|(j, &(tj, ej))| j != i && tj <= t && ej <= e && (tj < t || ej < e));
-        r.pareto = !dominated;
+    for (r, front) in rows.iter_mut().zip(pareto_front(&keys)) {
+        r.pareto = front;
     }
+}
+
+/// For each (time, error), whether no other is at least as good in both and better in one.
+fn pareto_front<E: PartialOrd + Copy>(keys: &[(Duration, E)]) -> Vec<bool> {
+    keys.iter()
+        .enumerate()
+        .map(|(i, &(t, e))| {
+            !keys
+                .iter()
+                .enumerate()
+                .any(|(j, &(tj, ej))| j != i && tj <= t && ej <= e && (tj < t || ej < e))
+        })
+        .collect()
 }
 
 const HEADER: [&str; 10] = [
@@ -418,5 +426,25 @@ fn heatmap(frame: &Frame, program: &Program) -> Frame {
         aovs: None,
         device_time: None,
         wall_time: Duration::ZERO,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pareto_front;
+    use std::time::Duration;
+
+    #[test]
+    fn the_pareto_front_keeps_what_nothing_beats() {
+        let ms = Duration::from_millis;
+        let keys = [
+            (ms(10), (0, 1e-3)), // front: fastest of the exact ones
+            (ms(20), (0, 1e-6)), // front: most accurate
+            (ms(30), (0, 1e-5)), // beaten by the one above in both
+            (ms(5), (3, 1e-7)),  // front: fastest, though it has mismatches
+            (ms(10), (0, 1e-3)), // ties with the first: neither beats the other
+            (ms(15), (1, 1e-6)), // beaten by the first (fewer mismatches, faster)
+        ];
+        assert_eq!(pareto_front(&keys), [true, true, false, true, true, false]);
     }
 }

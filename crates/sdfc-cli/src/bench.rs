@@ -2,8 +2,8 @@
 //! that trade one for the other, each timed over warm runs and compared with one f64 reference
 //! render; the table marks the settings on the Pareto front.
 
-use crate::render::{open_renderer, param_overrides, parse_size, render_failure, to_f32};
-use crate::{load_scene, Outcome};
+use crate::render::{parse_size, prepare, render_failure, to_f32};
+use crate::Outcome;
 use indicatif::{ProgressBar, ProgressStyle};
 use sdfc_ir::scene::{Epsilon, Normals, RenderSettings, Shadows};
 use sdfc_ir::Program;
@@ -155,16 +155,8 @@ fn settings(base: &RenderSettings) -> Vec<Setting> {
 }
 
 pub fn run(a: Args) -> Outcome {
-    let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
-        Ok(c) => c,
-        Err(o) => return o,
-    };
-    let overrides = match param_overrides(compiled.program(), &a.params) {
+    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params) {
         Ok(p) => p,
-        Err(o) => return o,
-    };
-    let renderer = match open_renderer() {
-        Ok(r) => r,
         Err(o) => return o,
     };
     let opts = RenderOptions {
@@ -181,7 +173,7 @@ pub fn run(a: Args) -> Outcome {
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     progress.set_message("f64 reference");
-    let reference = reference(program, &overrides, a.size);
+    let reference = crate::compare::reference(program, &overrides, a.size, 0.0);
     progress.inc(1);
 
     let mut rows = Vec::new();
@@ -245,26 +237,6 @@ pub fn run(a: Args) -> Outcome {
     );
     print!("{}", table(&title, &rows, a.markdown));
     Outcome::Ok
-}
-
-fn reference(
-    program: &Program,
-    overrides: &[(String, Vec<f64>)],
-    (width, height): (u32, u32),
-) -> sdfc_reference::Image {
-    // The device sees the overrides in f32; so does the reference.
-    let in_f32: Vec<(String, Vec<f64>)> = overrides
-        .iter()
-        .map(|(n, c)| (n.clone(), c.iter().map(|&v| v as f32 as f64).collect()))
-        .collect();
-    let opts = sdfc_reference::Options {
-        width,
-        height,
-        time: 0.0,
-        params: program.scene.param_values(&in_f32),
-        threads: 0,
-    };
-    sdfc_reference::render(program, &opts)
 }
 
 fn row(setting: &Setting, time: Duration, frame: &Frame, reference: &sdfc_reference::Image) -> Row {

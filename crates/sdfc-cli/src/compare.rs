@@ -18,20 +18,7 @@ pub fn table(
     device: &str,
 ) -> String {
     let program = compiled.program();
-    // The device sees the overrides in f32; so does the reference.
-    let in_f32: Vec<(String, Vec<f64>)> = overrides
-        .iter()
-        .map(|(n, c)| (n.clone(), c.iter().map(|&v| v as f32 as f64).collect()))
-        .collect();
-    let params = program.scene.param_values(&in_f32);
-    let opts = sdfc_reference::Options {
-        width: frame.width,
-        height: frame.height,
-        time: time as f32 as f64,
-        params,
-        threads: 0,
-    };
-    let reference = sdfc_reference::render(program, &opts);
+    let reference = reference(program, overrides, (frame.width, frame.height), time);
     let m = match &frame.aovs {
         Some(a) => metrics::compare(
             &GpuFrame {
@@ -51,6 +38,28 @@ pub fn table(
     } else {
         plain_table(name, &m, device)
     }
+}
+
+/// The f64 reference render of `program` at `width` x `height`, with the param overrides and
+/// the time rounded to f32 as the device gets them.
+pub fn reference(
+    program: &sdfc_ir::Program,
+    overrides: &[(String, Vec<f64>)],
+    (width, height): (u32, u32),
+    time: f64,
+) -> sdfc_reference::Image {
+    let in_f32: Vec<(String, Vec<f64>)> = overrides
+        .iter()
+        .map(|(n, c)| (n.clone(), c.iter().map(|&v| v as f32 as f64).collect()))
+        .collect();
+    let opts = sdfc_reference::Options {
+        width,
+        height,
+        time: time as f32 as f64,
+        params: program.scene.param_values(&in_f32),
+        threads: 0,
+    };
+    sdfc_reference::render(program, &opts)
 }
 
 fn markdown_table(name: &str, m: &Metrics) -> String {

@@ -107,6 +107,22 @@ pub fn param_overrides(
     Ok(out)
 }
 
+/// Param overrides by name, in f64 as parsed.
+pub type Overrides = Vec<(String, Vec<f64>)>;
+
+/// What rendering a scene file needs: the compiled scene, its param overrides and the
+/// device (named on stderr); on failure, the diagnostics are printed and the outcome comes
+/// back.
+pub fn prepare(
+    scene: &PathBuf,
+    params: &[String],
+) -> Result<(sdfc_wgsl::Compiled, Overrides, Renderer), Outcome> {
+    let compiled = load_scene(scene, &sdfc_wgsl::Options::default())?;
+    let overrides = param_overrides(compiled.program(), params)?;
+    let renderer = open_renderer()?;
+    Ok((compiled, overrides, renderer))
+}
+
 /// The f32 form the device takes.
 pub fn to_f32(params: &[(String, Vec<f64>)]) -> Vec<(String, Vec<f32>)> {
     params
@@ -174,19 +190,11 @@ pub fn run(a: Args) -> Outcome {
         eprintln!("error: --time must be finite, found {}", a.time);
         return Outcome::EnvError;
     }
-    let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
-        Ok(c) => c,
-        Err(o) => return o,
-    };
-    let overrides = match param_overrides(compiled.program(), &a.params) {
+    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params) {
         Ok(p) => p,
         Err(o) => return o,
     };
     let params = to_f32(&overrides);
-    let renderer = match open_renderer() {
-        Ok(r) => r,
-        Err(o) => return o,
-    };
     let opts = RenderOptions {
         width: a.size.0,
         height: a.size.1,

@@ -164,3 +164,24 @@ fn only_where_it_helps() {
         assert!(program(src).distance_ray.is_none(), "{src}");
     }
 }
+
+/// The march and the hit refinement call the ray form; the library form (for users' own
+/// shaders, which march however they like) has only `scene_distance`.
+#[test]
+fn the_marcher_calls_it_and_the_library_leaves_it_out() {
+    let src = format!("scene = {RIBS};\n");
+    let full = compile(&src, &Options::default()).expect("compiles").wgsl;
+    assert!(full.contains("fn scene_distance_ray(p: vec3<f32>, rd: vec3<f32>) -> f32"));
+    assert_eq!(
+        full.matches("scene_distance_ray(ro + rd * t, rd)").count(),
+        2,
+        "the march loop and the refinement"
+    );
+    let lib = Options {
+        lib: true,
+        ..Options::default()
+    };
+    let lib = compile(&src, &lib).expect("compiles").wgsl;
+    assert!(!lib.contains("scene_distance_ray"), "{lib}");
+    assert!(lib.contains("fn scene_distance(p: vec3<f32>) -> f32"));
+}

@@ -5,6 +5,15 @@ struct Hit {
     hit: bool,
 }
 
+// The end of a march that left its loop without a hit, at t after `steps` samples. Out of
+// steps while passing a surface by within the threshold (`passing`) is a hit where the ray
+// is: a ray that grazes a silhouette crawls past it in steps of about a hundredth of the
+// threshold and can spend the whole budget there, and the pixel's footprint touches that
+// surface, so the pixel shows it rather than a hole with the background behind.
+fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
+    return Hit(t, steps, passing && steps >= MAX_STEPS && t <= MAX_DISTANCE);
+}
+
 // Refines a hit found within the surface threshold (distance d0 at t0) to the surface itself.
 // In front of the surface (d > 0) each step goes at least the plain step t + d (a distance
 // bound never overestimates, so the surface is at least that far) and follows the secant

@@ -45,9 +45,5 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         prev_radius = radius;
         t = t + step;
     }
-    // Out of steps while passing a surface by within the threshold: a ray that grazes a
-    // silhouette crawls past it in steps of about a hundredth of the threshold and can spend
-    // the whole budget there. The pixel's footprint touches that surface, so it is a hit
-    // where the ray is, not a hole showing the background.
-    return Hit(t, steps, passing && steps >= MAX_STEPS && t <= MAX_DISTANCE);
+    return march_end(t, steps, passing);
 }

@@ -240,10 +240,9 @@ pub fn run(a: Args) -> Outcome {
 }
 
 fn row(setting: &Setting, time: Duration, frame: &Frame, reference: &sdfc_reference::Image) -> Row {
-    let empty = Vec::new();
-    let (depth, normal, steps) = match &frame.aovs {
+    let (depth, normal, steps): (&[f32], &[[f32; 3]], &[f32]) = match &frame.aovs {
         Some(a) => (&a.depth, &a.normal, &a.steps),
-        None => (&empty, &Vec::new(), &empty),
+        None => (&[], &[], &[]),
     };
     let metrics = metrics::compare(
         &GpuFrame {
@@ -256,7 +255,7 @@ fn row(setting: &Setting, time: Duration, frame: &Frame, reference: &sdfc_refere
         },
         reference,
     );
-    let mut sorted: Vec<f32> = steps.clone();
+    let mut sorted = steps.to_vec();
     sorted.sort_by(f32::total_cmp);
     let n = sorted.len().max(1) as f64;
     let max = setting.render.max_steps as f32;

@@ -6,10 +6,12 @@ struct Hit {
 }
 
 // The end of a march that left its loop without a hit, at t after `steps` samples. Out of
-// steps while passing a surface by within the threshold (`passing`) is a hit where the ray
-// is: a ray that grazes a silhouette crawls past it in steps of about a hundredth of the
-// threshold and can spend the whole budget there, and the pixel's footprint touches that
-// surface, so the pixel shows it rather than a hole with the background behind.
+// steps while passing a surface by, still within a tenth of the threshold (`passing`), is a
+// hit where the ray is: a ray that grazes a silhouette crawls past it in steps of about a
+// hundredth of the threshold and can spend the whole budget there, and the pixel's footprint
+// touches that surface, so the pixel shows it rather than a hole with the background behind.
+// Further out it is not: a ray just above a ground plane stays within the threshold (which
+// grows with t) to the horizon, and made a row of false hits at whatever t the steps ran out.
 fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
     return Hit(t, steps, passing && steps >= MAX_STEPS && t <= MAX_DISTANCE);
 }

@@ -9,6 +9,11 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     var step = 0.0;
     // Whether the last sample was a surface passed by within the threshold.
     var passing = false;
+    // Whether that pass still hugs the surface (the last sample within a tenth of the
+    // threshold): out of steps then is a hit (`march_end`); further out it is not.
+    var close = false;
+    // Whether relaxed steps are tried while receding from a pass (not after one failed).
+    var leap = false;
     loop {
         if steps >= MAX_STEPS || t > MAX_DISTANCE {
             break;
@@ -20,11 +25,24 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         if overshot {
             step = step - omega * step;
             omega = 1.0;
+            leap = false;
         } else {
             // `<=`: at the camera the pixel threshold is 0, and a camera on a surface (d = 0)
             // must hit there rather than step by 0 for ever.
-            if d <= surface_epsilon(t, pixel) {
-                let refined = refine(ro, rd, t, d, steps, surface_epsilon(t, pixel));
+            let eps = surface_epsilon(t, pixel);
+            if passing && d <= eps && d > prev_radius {
+                // Receding from a surface just passed by, still within the threshold: no
+                // refinement, and steps of 1.9 d while the spheres chain (see the plain
+                // marcher); once out of the threshold, plain steps as after any pass.
+                omega = select(1.0, 1.9, leap);
+                step = omega * d;
+                close = d <= 0.1 * eps;
+                prev_radius = radius;
+                t = t + step;
+                continue;
+            }
+            if d <= eps {
+                let refined = refine(ro, rd, t, d, steps, eps);
                 if refined.hit {
                     // A surface refined to beyond MAX_DISTANCE is out of range: a miss.
                     return Hit(refined.t, refined.steps, refined.t <= MAX_DISTANCE);
@@ -37,7 +55,12 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 prev_radius = 0.0;
                 step = 0.0;
                 passing = true;
+                close = true;
+                leap = true;
                 continue;
+            }
+            if passing {
+                omega = 1.0;
             }
             passing = false;
             step = d * omega;
@@ -45,5 +68,5 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         prev_radius = radius;
         t = t + step;
     }
-    return march_end(t, steps, passing);
+    return march_end(t, steps, passing && close);
 }

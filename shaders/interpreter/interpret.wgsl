@@ -91,6 +91,7 @@ fn interpret(range: vec2<u32>, p: vec3<f32>) -> Outputs {
             case OP_ROTATE_Y: { r = vec4<f32>(rotate_y(a.xyz, b.x, c.x), 0.0); }
             case OP_ROTATE_Z: { r = vec4<f32>(rotate_z(a.xyz, b.x, c.x), 0.0); }
             case OP_NOISE: { r = vec4<f32>(noise(a.xyz)); }
+            case OP_NOISE_GRADIENT: { r = vec4<f32>(noise_gradient(a.xyz), 0.0); }
             case OP_SD_BOX_FRAME: { r = vec4<f32>(sd_box_frame(a.xyz, b.xyz, c.x)); }
             case OP_SD_CAPPED_TORUS: { r = vec4<f32>(sd_capped_torus(a.xyz, b.xy, c.x, d.x)); }
             case OP_SD_CAPPED_CONE: { r = vec4<f32>(sd_capped_cone(a.xyz, b.x, c.x, d.x)); }

@@ -120,6 +120,7 @@ fn settings(base: &RenderSettings) -> Vec<Setting> {
         ("central", Normals::Central),
         ("forward", Normals::Forward),
         ("tetrahedron", Normals::Tetrahedron),
+        ("analytic", Normals::Analytic),
     ] {
         add(
             format!("normals: {name}"),

@@ -203,6 +203,11 @@ pub fn run(a: Args) -> Outcome {
         aovs: a.aov.is_some() || a.compare,
     };
     let frame = if a.interpreted {
+        if compiled.program().scene.render.normals == sdfc_ir::scene::Normals::Analytic {
+            eprintln!(
+                "sdfc: note: the interpreted marcher has no gradient code; `normals: analytic` renders with `tetrahedron` there"
+            );
+        }
         renderer.render_interpreted(compiled.program(), &opts)
     } else {
         renderer.render(&compiled, &opts)

@@ -192,6 +192,7 @@ pub fn apply<T: Float>(op: Op, ty: Ty, a: &[Value<T>]) -> Value<T> {
                 _ => [c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2]],
             })
         }
+        Op::Helper(Helper::NoiseGradient) => Value::V3(crate::noise::noise_gradient(v3(&a[0]))),
         Op::Helper(h) => Value::F(helper(h, a)),
     }
 }
@@ -329,7 +330,7 @@ fn helper<T: Float>(h: Helper, a: &[Value<T>]) -> T {
             ];
             d[0].max(d[1]).min(zero) + length(&d.map(|x| x.max(zero)))
         }
-        Helper::RotateX | Helper::RotateY | Helper::RotateZ => zero,
+        Helper::RotateX | Helper::RotateY | Helper::RotateZ | Helper::NoiseGradient => zero,
         Helper::SdBoxFrame
         | Helper::SdCappedTorus
         | Helper::SdCappedCone

@@ -272,13 +272,15 @@ pub fn infer(op: Op, a: &[Ty]) -> Option<Ty> {
         Op::Transpose => (a == [Mat3]).then_some(Mat3),
         Op::Builtin(b) => infer_builtin(b, a),
         Op::Helper(h) => {
-            use crate::ops::Helper::{RotateX, RotateY, RotateZ};
+            use crate::ops::Helper::{NoiseGradient, RotateX, RotateY, RotateZ};
             let ok = a.first() == Some(&Vec3) && a.iter().all(|t| float(*t));
-            ok.then_some(if matches!(h, RotateX | RotateY | RotateZ) {
-                Vec3
-            } else {
-                F32
-            })
+            ok.then_some(
+                if matches!(h, RotateX | RotateY | RotateZ | NoiseGradient) {
+                    Vec3
+                } else {
+                    F32
+                },
+            )
         }
     }
 }

@@ -76,6 +76,68 @@ pub fn noise<T: Float>(p: [T; 3]) -> T {
         .min(one)
 }
 
+/// The corner gradient `grad` dots with its offset: `grad(x, y, z, f) = corner(x, y, z) . f`.
+fn corner<T: Float>(x: i32, y: i32, z: i32) -> [T; 3] {
+    let h = hash(x, y, z) & 15;
+    let (one, zero) = (T::one(), T::zero());
+    let su = if h & 1 == 0 { one } else { -one };
+    let sv = if h & 2 == 0 { one } else { -one };
+    let mut g = [zero; 3];
+    g[if h < 8 { 0 } else { 1 }] = su;
+    let v = if h < 4 {
+        1
+    } else if h == 12 || h == 14 {
+        0
+    } else {
+        2
+    };
+    g[v] = g[v] + sv;
+    g
+}
+
+/// The gradient of [`noise`] at `p`, as `shaders/noise_gradient.wgsl` computes it: the
+/// derivative of the same blend (zero where the value is clamped).
+pub fn noise_gradient<T: Float>(p: [T; 3]) -> [T; 3] {
+    let fl = p.map(|x| x.floor());
+    let i = fl.map(|x| x.to_f64() as i32);
+    let f = [p[0] - fl[0], p[1] - fl[1], p[2] - fl[2]];
+    let w = f.map(fade);
+    let c = |x: f64| T::from_f64(x);
+    let dw = f.map(|t| c(30.0) * t * t * (t * (t - c(2.0)) + T::one()));
+    let mut v = [T::zero(); 8];
+    let mut g = [[T::zero(); 3]; 8];
+    for k in 0..8 {
+        let o = [k & 1, (k >> 1) & 1, (k >> 2) & 1];
+        g[k] = corner(
+            i[0].wrapping_add(o[0] as i32),
+            i[1].wrapping_add(o[1] as i32),
+            i[2].wrapping_add(o[2] as i32),
+        );
+        let off = [0, 1, 2].map(|a| f[a] - c(o[a] as f64));
+        v[k] = g[k][0] * off[0] + g[k][1] * off[1] + g[k][2] * off[2];
+    }
+    let mixv = |a: [T; 3], b: [T; 3], t: T| [0, 1, 2].map(|k| mix(a[k], b[k], t));
+    let mut v2 = [T::zero(); 4];
+    let mut g2 = [[T::zero(); 3]; 4];
+    for k in 0..4 {
+        v2[k] = mix(v[2 * k], v[2 * k + 1], w[0]);
+        g2[k] = mixv(g[2 * k], g[2 * k + 1], w[0]);
+        g2[k][0] = g2[k][0] + (v[2 * k + 1] - v[2 * k]) * dw[0];
+    }
+    let (vy0, vy1) = (mix(v2[0], v2[1], w[1]), mix(v2[2], v2[3], w[1]));
+    let mut gy0 = mixv(g2[0], g2[1], w[1]);
+    gy0[1] = gy0[1] + (v2[1] - v2[0]) * dw[1];
+    let mut gy1 = mixv(g2[2], g2[3], w[1]);
+    gy1[1] = gy1[1] + (v2[3] - v2[2]) * dw[1];
+    let n = mix(vy0, vy1, w[2]);
+    let mut gn = mixv(gy0, gy1, w[2]);
+    gn[2] = gn[2] + (vy1 - vy0) * dw[2];
+    if n.abs() > T::one() {
+        return [T::zero(); 3];
+    }
+    gn
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,6 +156,30 @@ mod tests {
             max = max.max(v.abs());
         }
         assert!(max <= 1.0 && max > 0.2, "{max}");
+    }
+
+    /// The gradient against central differences of the noise in f64, across cells.
+    #[test]
+    fn gradient_matches_differences() {
+        let mut worst: f64 = 0.0;
+        for k in 0..4000 {
+            let t = k as f64;
+            let p = [
+                (t * 0.7371).sin() * 9.3,
+                (t * 1.3117).cos() * 7.1,
+                (t * 0.4513).sin() * 5.7 + 0.3,
+            ];
+            let g = noise_gradient(p);
+            let h = 1e-6;
+            for a in 0..3 {
+                let (mut x, mut y) = (p, p);
+                x[a] += h;
+                y[a] -= h;
+                let fd = (noise(x) - noise(y)) / (2.0 * h);
+                worst = worst.max((fd - g[a]).abs());
+            }
+        }
+        assert!(worst < 1e-6, "noise gradient off by {worst:e}");
     }
 
     #[test]

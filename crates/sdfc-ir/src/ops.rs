@@ -202,6 +202,9 @@ pub enum Helper {
     RotateZ,
     /// `(p)`: 3D gradient noise in [-1, 1] (`shaders/noise.wgsl`).
     Noise,
+    /// `(p)`: the gradient (vec3) of `Noise` at p (`shaders/noise_gradient.wgsl`), for the
+    /// analytic normals' derivative (`crate::diff`).
+    NoiseGradient,
 }
 
 impl Helper {
@@ -227,6 +230,7 @@ impl Helper {
         Helper::RotateY,
         Helper::RotateZ,
         Helper::Noise,
+        Helper::NoiseGradient,
     ];
 
     /// The WGSL function name.
@@ -253,6 +257,7 @@ impl Helper {
             Helper::RotateY => "rotate_y",
             Helper::RotateZ => "rotate_z",
             Helper::Noise => "noise",
+            Helper::NoiseGradient => "noise_gradient",
         }
     }
 }

@@ -71,6 +71,11 @@ fn normals_central() {
 }
 
 #[test]
+fn normals_analytic() {
+    golden("normals_analytic");
+}
+
+#[test]
 fn normals_forward() {
     golden("normals_forward");
 }

@@ -75,7 +75,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
                     let name = format!("s{n}");
                     *n += 1;
                     let flag = wants_material.get(&key).copied().unwrap_or(false);
-                    let call = format!("{}({}, {flag})", callee.name, text[arg.index()]);
+                    let call = if callee.kind == FuncKind::Gradient {
+                        format!("{}({})", callee.name, text[arg.index()])
+                    } else {
+                        format!("{}({}, {flag})", callee.name, text[arg.index()])
+                    };
                     if let [_, bound, best] = node.args() {
                         // A culled union's early-out: the group runs only where its box
                         // is nearer than the best distance so far.
@@ -94,9 +98,12 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
                     name
                 }
             };
-            text[id.index()] = match result {
-                0 => format!("{value}.distance"),
-                1 => format!("{value}.albedo"),
+            text[id.index()] = match (callee.kind, result) {
+                // A gradient function returns vec4(gradient, distance).
+                (FuncKind::Gradient, 0) => format!("{value}.w"),
+                (FuncKind::Gradient, _) => format!("{value}.xyz"),
+                (_, 0) => format!("{value}.distance"),
+                (_, 1) => format!("{value}.albedo"),
                 _ => format!("{value}.phong"),
             };
             continue;
@@ -131,6 +138,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             let _ = writeln!(s, "fn {}(p: vec3<f32>, rd: vec3<f32>) -> f32 {{", f.name);
             s += &parts[0];
             let _ = writeln!(s, "    return {};", r[0]);
+        }
+        FuncKind::Gradient => {
+            let _ = writeln!(s, "fn {}(p: vec3<f32>) -> vec4<f32> {{", f.name);
+            s += &parts[0];
+            let _ = writeln!(s, "    return vec4<f32>({}, {});", r[1], r[0]);
         }
         FuncKind::Material => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> SceneMaterial {{", f.name);

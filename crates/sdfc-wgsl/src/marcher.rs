@@ -52,13 +52,17 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     s += parts::SAFE_NORMALIZE;
     s += "\n";
+    let analytic = scene.render.normals == Normals::Analytic;
     s += match scene.render.normals {
         Normals::Central => parts::NORMALS_CENTRAL,
         Normals::Forward => parts::NORMALS_FORWARD,
-        // Analytic normals are rejected by the compiler until they exist.
-        Normals::Tetrahedron | Normals::Analytic => parts::NORMALS_TETRAHEDRON,
+        Normals::Tetrahedron => parts::NORMALS_TETRAHEDRON,
+        // `surface_normal` itself takes the gradient (`analytic_surface_normal`).
+        Normals::Analytic => "",
     };
-    s += "\n";
+    if !analytic {
+        s += "\n";
+    }
     match scene.render.shadows {
         Shadows::None => {}
         Shadows::Hard => s += &format!("{}\n", parts::SHADOW_HARD),
@@ -78,8 +82,22 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         parts::RADIANCE_PLAIN
     };
     s += "\n";
-    s += parts::MAIN;
+    s += &analytic_surface_normal(parts::MAIN, analytic);
     s
+}
+
+/// The entry point's part with its `surface_normal` (difference normals at a rounded point)
+/// replaced by the gradient's (`shaders/normals/analytic.wgsl`) for `normals: analytic`. The
+/// function is cut out between its comment and the next one; a test checks both are there.
+pub(crate) fn analytic_surface_normal(main: &str, on: bool) -> String {
+    const START: &str = "// The normal at a hit p.";
+    const END: &str = "// How far a secondary ray";
+    match (on, main.find(START), main.find(END)) {
+        (true, Some(a), Some(b)) if a < b => {
+            format!("{}{}\n{}", &main[..a], parts::NORMALS_ANALYTIC, &main[b..])
+        }
+        _ => main.to_string(),
+    }
 }
 
 /// The camera basis of spec section 8, computed in f64 and rounded once.
@@ -251,8 +269,20 @@ fn finish(scene: &Scene) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::along_ray;
+    use super::{along_ray, analytic_surface_normal};
     use crate::parts;
+
+    /// The analytic `surface_normal` replaces the difference one in the entry point's part,
+    /// exactly once, and the rest of the part stays.
+    #[test]
+    fn analytic_normals_replace_the_difference_surface_normal() {
+        let main = analytic_surface_normal(parts::MAIN, true);
+        assert_eq!(main.matches("fn surface_normal(").count(), 1);
+        assert!(main.contains("scene_gradient(p)"));
+        assert!(!main.contains("scene_normal("));
+        assert!(main.contains("fn ray_offset(") && main.contains("fn normal_step("));
+        assert_eq!(analytic_surface_normal(parts::MAIN, false), parts::MAIN);
+    }
 
     /// `along_ray` finds its text in every part it rewrites: were a part's ray sample
     /// written differently, its march would silently keep the isotropic bound.

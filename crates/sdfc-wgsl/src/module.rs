@@ -19,16 +19,46 @@ pub fn emit(p: &Program, lib: bool) -> String {
     // The render shader marches in camera-relative coordinates where the program has them;
     // the library keeps the world coordinates its callers pass.
     let relative = p.relative.as_ref().filter(|_| !lib);
-    let (distance, material, groups, distance_ray) = match relative {
-        Some(r) => (&r.distance, &r.material, &r.groups, &r.distance_ray),
-        None => (&p.distance, &p.material, &p.groups, &p.distance_ray),
+    let (distance, material, groups, distance_ray, gradient) = match relative {
+        Some(r) => (
+            &r.distance,
+            &r.material,
+            &r.groups,
+            &r.distance_ray,
+            &r.gradient,
+        ),
+        None => (
+            &p.distance,
+            &p.material,
+            &p.groups,
+            &p.distance_ray,
+            &p.gradient,
+        ),
     };
+    // Only the marcher's normals call the gradient; a program whose settings were changed
+    // to analytic normals after compiling (`sdfc bench`) gets it here.
+    let analytic = p.scene.render.normals == sdfc_ir::scene::Normals::Analytic && !lib;
+    let made;
+    let gradient = match gradient {
+        Some(g) if analytic => Some(g),
+        None if analytic => {
+            made = sdfc_ir::gradient_of(distance, groups);
+            Some(&made)
+        }
+        _ => None,
+    };
+    let all_groups = gradient.map(|g| g.all_groups(groups));
     // Only the marcher calls the ray form.
     let distance_ray = distance_ray.as_ref().filter(|_| !lib);
     let funcs: Vec<&Func> = [distance, material]
         .into_iter()
         .chain(distance_ray)
         .chain(groups)
+        .chain(
+            gradient
+                .into_iter()
+                .flat_map(|g| std::iter::once(&g.func).chain(&g.groups)),
+        )
         .collect();
     let uses_time = funcs.iter().any(|f| uses(f, |o| *o == Op::Time));
     let uses_params = funcs.iter().any(|f| uses(f, |o| matches!(o, Op::Param(_))));
@@ -96,6 +126,10 @@ pub fn emit(p: &Program, lib: bool) -> String {
             }
         }
     }
+    // The noise gradient uses the noise part's hash and fade.
+    if helpers.contains(&Helper::NoiseGradient) {
+        helpers.insert(Helper::Noise);
+    }
     for h in Helper::ALL.iter().filter(|h| helpers.contains(h)) {
         s += "\n";
         s += parts::helper(*h);
@@ -120,6 +154,22 @@ pub fn emit(p: &Program, lib: bool) -> String {
             f,
             groups,
             "The distance for marching along the unit direction rd: bound-only nodes divide by their slope along rd where it is below their bound in every direction.",
+        );
+    }
+    if let (Some(g), Some(all)) = (gradient, &all_groups) {
+        for f in &g.groups {
+            s += "\n";
+            s += &emit_func(
+                f,
+                all,
+                "The distance of one group (w) and its gradient (xyz), for analytic normals.",
+            );
+        }
+        s += "\n";
+        s += &emit_func(
+            &g.func,
+            all,
+            "The distance from p to the scene (w) and its gradient (xyz): the forward-mode derivative of scene_distance, for analytic normals.",
         );
     }
     s += "\n";

@@ -25,6 +25,7 @@ pub fn helper(h: Helper) -> &'static str {
         Helper::RotateY => include_str!("../../../shaders/transforms/rotate_y.wgsl"),
         Helper::RotateZ => include_str!("../../../shaders/transforms/rotate_z.wgsl"),
         Helper::Noise => include_str!("../../../shaders/noise.wgsl"),
+        Helper::NoiseGradient => include_str!("../../../shaders/noise_gradient.wgsl"),
     }
 }
 
@@ -36,6 +37,7 @@ pub const MAIN: &str = include_str!("../../../shaders/main.wgsl");
 pub const SAFE_NORMALIZE: &str = include_str!("../../../shaders/normals/safe_normalize.wgsl");
 pub const NORMALS_TETRAHEDRON: &str = include_str!("../../../shaders/normals/tetrahedron.wgsl");
 pub const NORMALS_CENTRAL: &str = include_str!("../../../shaders/normals/central.wgsl");
+pub const NORMALS_ANALYTIC: &str = include_str!("../../../shaders/normals/analytic.wgsl");
 pub const NORMALS_FORWARD: &str = include_str!("../../../shaders/normals/forward.wgsl");
 pub const SHADOW_HARD: &str = include_str!("../../../shaders/shading/shadow_hard.wgsl");
 pub const SHADOW_SOFT: &str = include_str!("../../../shaders/shading/shadow_soft.wgsl");

@@ -423,20 +423,19 @@ impl<'a> Lowerer<'a> {
                         Some("central") => {
                             r.normals = Normals::Central;
                             Ok(())
-                        },
+                        }
                         Some("tetrahedron") => {
                             r.normals = Normals::Tetrahedron;
                             Ok(())
-                        },
+                        }
                         Some("forward") => {
                             r.normals = Normals::Forward;
                             Ok(())
-                        },
-                        Some("analytic") => Err(self.error(
-                            Diagnostic::error(f.value.span, "`normals: analytic` is not implemented in this version of sdfc yet")
-                                .with_label("not implemented yet")
-                                .with_hint("use `tetrahedron` (the default) or `central`"),
-                        )),
+                        }
+                        Some("analytic") => {
+                            r.normals = Normals::Analytic;
+                            Ok(())
+                        }
                         other => Err(self.bad_choice(f, other, &choices)),
                     }
                 }

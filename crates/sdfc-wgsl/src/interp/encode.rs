@@ -676,7 +676,7 @@ fn arity(op: Opcode) -> usize {
         Ret => 2,
         Neg | Swizzle | Abs | Sign | Floor | Ceil | Fract | Round | Sqrt | Exp | Log | Sin
         | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4
-        | Normalize2 | Normalize3 | Normalize4 | Noise => 1,
+        | Normalize2 | Normalize3 | Normalize4 | Noise | NoiseGradient => 1,
         Select | Clamp | Mix | Smoothstep | MatRow | SdRoundBox | SdTorus | SdCylinder
         | RotateX | RotateY | RotateZ => 3,
         MakeVec | Mat3Vec | SdCapsule => 4,

@@ -97,8 +97,8 @@ pub fn frame_data(
     w.u(r.max_steps);
     w.u(r.antialias);
     w.u(match r.normals {
-        // Analytic normals are rejected by the compiler until they exist; as the
-        // specialised shader, fall back to the tetrahedron.
+        // The interpreter has no gradient code: analytic normals fall back to the
+        // tetrahedron there (docs/language.md).
         Normals::Tetrahedron | Normals::Analytic => 0,
         Normals::Central => 1,
         Normals::Forward => 2,

@@ -119,6 +119,7 @@ opcodes! {
     SdMandelbulb = 118, "OP_SD_MANDELBULB", "sd_mandelbulb";
     SdMenger = 119, "OP_SD_MENGER", "sd_menger";
     SdSierpinski = 120, "OP_SD_SIERPINSKI", "sd_sierpinski";
+    NoiseGradient = 121, "OP_NOISE_GRADIENT", "noise_gradient";
 }
 
 /// The opcode of a distance helper; `None` for a helper the interpreter does not know yet
@@ -136,6 +137,7 @@ pub fn helper_opcode(h: Helper) -> Option<Opcode> {
         Helper::RotateY => Opcode::RotateY,
         Helper::RotateZ => Opcode::RotateZ,
         Helper::Noise => Opcode::Noise,
+        Helper::NoiseGradient => Opcode::NoiseGradient,
         Helper::SdBoxFrame => Opcode::SdBoxFrame,
         Helper::SdCappedTorus => Opcode::SdCappedTorus,
         Helper::SdCappedCone => Opcode::SdCappedCone,

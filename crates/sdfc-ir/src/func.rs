@@ -24,7 +24,7 @@ pub enum FuncKind {
     /// A group of a large union: distance, albedo and phong. Callers that need only the
     /// distance (result 0) skip the material part.
     Group,
-    /// `scene_gradient` and the groups' gradient functions (`diff`): the distance and its
-    /// gradient with respect to p, two results.
+    /// `scene_gradient` and the groups' gradient functions (`diff`): the distance and the
+    /// x, y and z components of its gradient with respect to p, four results.
     Gradient,
 }

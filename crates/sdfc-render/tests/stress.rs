@@ -233,6 +233,19 @@ fn camera_up_parallel_to_forward_is_a_diagnostic() {
     }
 }
 
+/// The analytic render's normal errors (median and 99th percentile) are at most the
+/// tetrahedron's.
+fn assert_normals_no_worse(name: &str, m: &Metrics, tetra: &Metrics) {
+    assert!(
+        m.normal_median_deg <= tetra.normal_median_deg && m.normal_p99_deg <= tetra.normal_p99_deg,
+        "{name}: analytic normals (median {}, p99 {}) less accurate than tetrahedron ({}, {})",
+        m.normal_median_deg,
+        m.normal_p99_deg,
+        tetra.normal_median_deg,
+        tetra.normal_p99_deg
+    );
+}
+
 /// `normals: analytic` (the forward-mode gradient, no difference step) over the analytic
 /// suite: the same bounds, and a normal error no larger than the default tetrahedron's on
 /// any scene (measured, 64x48 on lavapipe: spheres median 0.0083 -> 0.0000 degrees, 99th
@@ -252,15 +265,7 @@ fn analytic_normals_are_at_least_as_accurate_as_differences() {
             return;
         };
         assert_analytic(name, &m);
-        assert!(
-            m.normal_median_deg <= tetra.normal_median_deg
-                && m.normal_p99_deg <= tetra.normal_p99_deg,
-            "{name}: analytic normals (median {}, p99 {}) less accurate than tetrahedron ({}, {})",
-            m.normal_median_deg,
-            m.normal_p99_deg,
-            tetra.normal_median_deg,
-            tetra.normal_p99_deg
-        );
+        assert_normals_no_worse(name, &m, &tetra);
         assert_eq!(
             m.depth_p999, tetra.depth_p999,
             "{name}: normals changed the depth"
@@ -285,15 +290,7 @@ fn analytic_normals_through_noise_and_every_primitive() {
             return;
         };
         assert_finite(name, &m);
-        assert!(
-            m.normal_median_deg <= tetra.normal_median_deg
-                && m.normal_p99_deg <= tetra.normal_p99_deg,
-            "{name}: analytic normals (median {}, p99 {}) less accurate than tetrahedron ({}, {})",
-            m.normal_median_deg,
-            m.normal_p99_deg,
-            tetra.normal_median_deg,
-            tetra.normal_p99_deg
-        );
+        assert_normals_no_worse(name, &m, &tetra);
         assert!(
             m.normal_p99_deg <= 0.1,
             "{name}: normal p99 {}",

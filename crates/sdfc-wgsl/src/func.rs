@@ -101,7 +101,9 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             text[id.index()] = match (callee.kind, result) {
                 // A gradient function returns vec4(gradient, distance).
                 (FuncKind::Gradient, 0) => format!("{value}.w"),
-                (FuncKind::Gradient, _) => format!("{value}.xyz"),
+                (FuncKind::Gradient, 1) => format!("{value}.x"),
+                (FuncKind::Gradient, 2) => format!("{value}.y"),
+                (FuncKind::Gradient, _) => format!("{value}.z"),
                 (_, 0) => format!("{value}.distance"),
                 (_, 1) => format!("{value}.albedo"),
                 _ => format!("{value}.phong"),
@@ -142,7 +144,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
         FuncKind::Gradient => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> vec4<f32> {{", f.name);
             s += &parts[0];
-            let _ = writeln!(s, "    return vec4<f32>({}, {});", r[1], r[0]);
+            let _ = writeln!(
+                s,
+                "    return vec4<f32>({}, {}, {}, {});",
+                r[1], r[2], r[3], r[0]
+            );
         }
         FuncKind::Material => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> SceneMaterial {{", f.name);

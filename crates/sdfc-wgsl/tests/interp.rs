@@ -113,3 +113,62 @@ fn too_many_live_values_is_a_clean_error() {
         Err(e) => panic!("{e}"),
     }
 }
+
+/// The `Frame` struct naga reads from the shader is as long as the uniform `frame_data`
+/// writes, and `normals: analytic` gets a gradient range in the bytecode (a grouped scene
+/// included: its calls then name the gradient groups) that the frame selects with
+/// `Frame.normals` 3; one beyond the register file falls back to the tetrahedron.
+#[test]
+fn analytic_normals_run_the_gradient_code() {
+    let wgsl = interp::emit();
+    let module = naga::front::wgsl::parse_str(&wgsl).expect("parses");
+    let frame = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("Frame"))
+        .expect("a Frame struct");
+    assert_eq!(
+        frame.1.inner.size(module.to_ctx()) as usize,
+        interp::frame::FRAME_BYTES
+    );
+    let grid = |n: usize| {
+        let mut s = String::from("render { normals: analytic }\nscene = union(\n");
+        for i in 0..n {
+            s += &format!("    sphere(0.3).translate([{}, {}, 0]),\n", i % 10, i / 10);
+        }
+        s + ");\n"
+    };
+    let grid40 = grid(40);
+    for src in [
+        "render { normals: analytic }\nscene = sphere(1) | box(1).translate([2, 0, 0]);\n",
+        grid40.as_str(),
+    ] {
+        let p = program(src);
+        let code = encode(&p).expect("encodes");
+        let g = code.gradient;
+        assert!(
+            g[0] < g[1] && g[1] < g[2] && g[2] < g[3],
+            "gradient ranges {g:?}"
+        );
+        assert_eq!(g[0], code.material[1], "after the material code");
+        assert_eq!(g[3] as usize, code.code.len());
+        let f = interp::frame::frame_data(&p, &code, [64, 48, 0, 0], &[]);
+        assert_eq!(f.uniform.len(), interp::frame::FRAME_BYTES);
+        // normals is u32 30 (after 7 rows of four and max_steps, antialias).
+        let at = |k: usize| u32::from_le_bytes(f.uniform[4 * k..4 * k + 4].try_into().unwrap());
+        assert_eq!(at(30), 3, "Frame.normals");
+        assert_eq!([at(44), at(45), at(46), at(47)], g, "Frame.gradient_code");
+    }
+    let plain = encode(&program("scene = sphere(1);\n")).expect("encodes");
+    assert_eq!(plain.gradient, [0; 4]);
+    // A gradient beyond the register file is left out, and the frame falls back to the
+    // tetrahedron (0); the distance and material still encode.
+    let p = program(&grid(300));
+    let code = encode(&p).expect("encodes without its gradient");
+    assert_eq!(code.gradient, [0; 4]);
+    let f = interp::frame::frame_data(&p, &code, [64, 48, 0, 0], &[]);
+    assert_eq!(
+        u32::from_le_bytes(f.uniform[120..124].try_into().unwrap()),
+        0
+    );
+}

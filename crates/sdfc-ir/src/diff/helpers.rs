@@ -73,6 +73,21 @@ impl Differ {
         self.box_of_offset(v)
     }
 
+    /// The distance from the segment from 0 to `e` of a point at `pa` from its start:
+    /// `length(pa - e clamp(dot(pa, e) / max(dot(e, e), 1e-30), 0, 1))`.
+    fn segment(&mut self, pa: NodeId, e: NodeId) -> NodeId {
+        let num = self.b(Builtin::Dot, &[pa, e]);
+        let den = self.b(Builtin::Dot, &[e, e]);
+        let tiny = self.f(1e-30);
+        let den = self.b(Builtin::Max, &[den, tiny]);
+        let t = self.n(Op::Div, &[num, den]);
+        let (zero, one) = (self.f(0.0), self.f(1.0));
+        let t = self.b(Builtin::Clamp, &[t, zero, one]);
+        let et = self.n(Op::Mul, &[e, t]);
+        let v = self.n(Op::Sub, &[pa, et]);
+        self.b(Builtin::Length, &[v])
+    }
+
     /// `select(d, -d, cond)`.
     fn negate_if(&mut self, d: NodeId, cond: NodeId) -> NodeId {
         let nd = self.n(Op::Neg, &[d]);
@@ -119,16 +134,7 @@ impl Differ {
             Helper::SdCapsule => {
                 let pa = self.n(Op::Sub, &[p, a[1]]);
                 let ba = self.n(Op::Sub, &[a[2], a[1]]);
-                let num = self.b(Builtin::Dot, &[pa, ba]);
-                let den = self.b(Builtin::Dot, &[ba, ba]);
-                let tiny = self.f(1e-30);
-                let den = self.b(Builtin::Max, &[den, tiny]);
-                let t = self.n(Op::Div, &[num, den]);
-                let (z, one) = (self.f(0.0), self.f(1.0));
-                let t = self.b(Builtin::Clamp, &[t, z, one]);
-                let s = self.n(Op::Mul, &[ba, t]);
-                let v = self.n(Op::Sub, &[pa, s]);
-                let l = self.b(Builtin::Length, &[v]);
+                let l = self.segment(pa, ba);
                 self.n(Op::Sub, &[l, a[3]])
             }
             Helper::SdEllipsoid => {
@@ -210,16 +216,7 @@ impl Differ {
                 let three = self.f(3.0);
                 let r3 = self.n(Op::Mul, &[three, r]);
                 let e = self.vec(&[nc, r3]);
-                let num = self.b(Builtin::Dot, &[pa, e]);
-                let den = self.b(Builtin::Dot, &[e, e]);
-                let tiny = self.f(1e-30);
-                let den = self.b(Builtin::Max, &[den, tiny]);
-                let t = self.n(Op::Div, &[num, den]);
-                let one = self.f(1.0);
-                let t = self.b(Builtin::Clamp, &[t, z, one]);
-                let et = self.n(Op::Mul, &[e, t]);
-                let sv = self.n(Op::Sub, &[pa, et]);
-                let side = self.b(Builtin::Length, &[sv]);
+                let side = self.segment(pa, e);
                 let d2 = self.b(Builtin::Min, &[bottom, side]);
                 // Inside: y >= -r and 0.866 x + 0.5 y <= r (both, as nested selects).
                 let nr = self.n(Op::Neg, &[r]);
@@ -353,16 +350,7 @@ impl Differ {
         let two = self.f(2.0);
         let h2 = self.n(Op::Mul, &[two, h]);
         let e = self.vec(&[dr, h2]);
-        let num = self.b(Builtin::Dot, &[pa, e]);
-        let den = self.b(Builtin::Dot, &[e, e]);
-        let tiny = self.f(1e-30);
-        let den = self.b(Builtin::Max, &[den, tiny]);
-        let t = self.n(Op::Div, &[num, den]);
-        let one = self.f(1.0);
-        let t = self.b(Builtin::Clamp, &[t, zero, one]);
-        let et = self.n(Op::Mul, &[e, t]);
-        let sv = self.n(Op::Sub, &[pa, et]);
-        let side = self.b(Builtin::Length, &[sv]);
+        let side = self.segment(pa, e);
         let d = self.b(Builtin::Min, &[bottom, top]);
         let d = self.b(Builtin::Min, &[d, side]);
         let ay = self.b(Builtin::Abs, &[y]);
@@ -413,17 +401,11 @@ impl Differ {
         let um = self.n(Op::Sub, &[u, half]);
         let pa = self.vec(&[um, v]);
         let e = self.vec(&[mhalf, sv]);
-        let num = self.b(Builtin::Dot, &[pa, e]);
-        let den = self.b(Builtin::Dot, &[e, e]);
-        let s = self.n(Op::Div, &[num, den]);
-        let one = self.f(1.0);
-        let s = self.b(Builtin::Clamp, &[s, zero, one]);
         let mu = self.b(Builtin::Max, &[um, zero]);
         let t1 = self.vec(&[mu, v]);
         let t1 = self.b(Builtin::Length, &[t1]);
-        let es = self.n(Op::Mul, &[e, s]);
-        let t2 = self.n(Op::Sub, &[pa, es]);
-        let t2 = self.b(Builtin::Length, &[t2]);
+        // (The WGSL divides by dot(e, e) unguarded: e is never zero there.)
+        let t2 = self.segment(pa, e);
         let t = self.b(Builtin::Min, &[t1, t2]);
         // Over the face's interior (v >= 0 and u sv + v / 2 <= sv / 2) the edge term is 0.
         let c_v = self.n(Op::Ge, &[v, zero]);

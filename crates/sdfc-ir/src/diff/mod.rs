@@ -23,12 +23,13 @@ pub(crate) type Tangent = [Option<NodeId>; 3];
 /// `scene_gradient` and the gradient functions of the groups it calls.
 #[derive(Clone, Debug)]
 pub struct Gradient {
-    /// Results: the distance (f32) and its gradient (vec3).
+    /// Results: the distance, then the gradient's x, y and z components (four f32). Kept
+    /// apart so that a consumer of one component (the interpreter's three passes) computes
+    /// only its chain.
     pub func: Func,
-    /// One per group of the program, in the same order; the calls in `func` and in these
-    /// name them as `Op::Call { func: groups.len() + i }` of the combined list
-    /// (`[program groups..., gradient groups...]`), and use result 0 (distance) and 1
-    /// (gradient).
+    /// One per group of the program, in the same order, with the same four results; the
+    /// calls in `func` and in these name them as `Op::Call { func: groups.len() + i }` of the
+    /// combined list (`[program groups..., gradient groups...]`).
     pub groups: Vec<Func>,
 }
 
@@ -83,13 +84,16 @@ fn differentiate(f: &Func, base: u32, name: String) -> Func {
         map[id.index()] = new;
     }
     let value = map[root.index()];
-    let grad = d.gradient_of(value);
-    d.g.set_hint(grad, "n");
+    let t = d.tangent(value);
+    let comps = t.map(|c| c.unwrap_or_else(|| d.g.f32(0.0)));
+    for c in comps {
+        d.g.set_hint(c, "n");
+    }
     Func {
         name,
         kind: FuncKind::Gradient,
         graph: d.g,
-        results: vec![value, grad],
+        results: vec![value, comps[0], comps[1], comps[2]],
     }
 }
 
@@ -190,6 +194,10 @@ impl Differ {
                         if let Some(k) = (0..3)
                             .find(|&k| c[k] == 1.0 && c.iter().filter(|v| **v == 0.0).count() == 2)
                         {
+                            let n = *self.g.node(v);
+                            if n.op == Op::MakeVec {
+                                return n.args()[k];
+                            }
                             return self
                                 .g
                                 .op(Op::Swizzle(crate::ops::Swizzle::new(&[k as u8])), &[v]);
@@ -221,20 +229,13 @@ impl Differ {
             g.add_typed(Op::Call { func: gf, result }, &[q], ty, Default::default())
         };
         let value = call(&mut self.g, 0, Ty::F32);
-        let grad = call(&mut self.g, 1, Ty::Vec3);
+        let comps: Vec<NodeId> = (1..4).map(|r| call(&mut self.g, r, Ty::F32)).collect();
+        let grad = self.g.op(Op::MakeVec, &comps);
         let tq = self.tangent(q);
+        // (`op` reads `dot(grad, e_k)` as component k, so a group called at p itself costs
+        // only the component asked for.)
         let t = tq.map(|t| t.map(|t| self.bop(crate::ops::Builtin::Dot, &[grad, t])));
         self.tangents.insert(value, t);
         value
-    }
-
-    /// `vec3(d/dx, d/dy, d/dz)` of a scalar node.
-    fn gradient_of(&mut self, id: NodeId) -> NodeId {
-        let t = self.tangent(id);
-        let comps: Vec<NodeId> = t
-            .iter()
-            .map(|c| c.unwrap_or_else(|| self.g.f32(0.0)))
-            .collect();
-        self.g.op(Op::MakeVec, &comps)
     }
 }

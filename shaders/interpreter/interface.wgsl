@@ -20,7 +20,7 @@ struct Frame {
     fog_density: f32,
     max_steps: u32,
     antialias: u32,
-    // 0 tetrahedron, 1 central, 2 forward, 3 analytic (the gradient's code).
+    // 0 tetrahedron, 1 central, 2 forward.
     normals: u32,
     // 0 none, 1 hard, 2 soft.
     shadows: u32,
@@ -34,12 +34,9 @@ struct Frame {
     light_count: u32,
     // Bit 0: `epsilon: pixel`; bit 1: fog.
     switches: u32,
-    // Instruction ranges [start, end) of the functions in `code`; the gradient's x, y and z
-    // components run from gradient_code.x to .y, .y to .z and .z to .w (all 0 unless
-    // `normals: analytic`).
+    // Instruction ranges [start, end) of the two functions in `code`.
     distance_code: vec2<u32>,
     material_code: vec2<u32>,
-    gradient_code: vec4<u32>,
     // Where the lights (two entries each: position or reversed direction with w = 1 for a
     // point light, then colour times intensity), the params and the constants start in `data`.
     lights_at: u32,

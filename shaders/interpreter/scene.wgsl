@@ -24,15 +24,6 @@ fn scene_normal(p: vec3<f32>, h: f32) -> vec3<f32> {
     switch frame.normals {
         case 1u: { return scene_normal_central(p, h); }
         case 2u: { return scene_normal_forward(p, h); }
-        // The gradient of the distance (`normals: analytic`), from its own code range.
-        case 3u: {
-            let g = frame.gradient_code;
-            return safe_normalize(vec3<f32>(
-                interpret(g.xy, p).a.x,
-                interpret(g.yz, p).a.x,
-                interpret(g.zw, p).a.x,
-            ));
-        }
         default: { return scene_normal_tetrahedron(p, h); }
     }
 }

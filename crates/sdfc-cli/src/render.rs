@@ -203,16 +203,12 @@ pub fn run(a: Args) -> Outcome {
         aovs: a.aov.is_some() || a.compare,
     };
     let frame = if a.interpreted {
-        let program = compiled.program();
-        if program.scene.render.normals == sdfc_ir::scene::Normals::Analytic
-            && sdfc_wgsl::interp::encode::encode(program).is_ok_and(|c| c.gradient[3] == 0)
-        {
+        if compiled.program().scene.render.normals == sdfc_ir::scene::Normals::Analytic {
             eprintln!(
-                "sdfc: note: the scene's gradient needs more than the interpreter's {} registers; `normals: analytic` renders with `tetrahedron` normals in the interpreted marcher",
-                sdfc_wgsl::interp::encode::MAX_REGISTERS
+                "sdfc: note: the interpreted marcher has no gradient code; `normals: analytic` renders with `tetrahedron` there"
             );
         }
-        renderer.render_interpreted(program, &opts)
+        renderer.render_interpreted(compiled.program(), &opts)
     } else {
         renderer.render(&compiled, &opts)
     };

@@ -307,24 +307,3 @@ fn params_and_time_reach_the_interpreter() {
         Err(RenderError::Param(_))
     ));
 }
-
-#[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
-fn analytic_normals() {
-    // The gradient's three component ranges against the specialised `scene_gradient`, on
-    // every helper and operation and through group functions.
-    let shapes = SHAPES.replace("normals: central", "normals: analytic");
-    assert_ne!(shapes, SHAPES);
-    compare("shapes_analytic", &compile("shapes_analytic", &shapes));
-    let grid = format!(
-        "render {{ normals: analytic }}\n{}",
-        sdfc_tests::grid_scene(40)
-    );
-    let c = compile("grid_40_analytic", &grid);
-    let code = sdfc_wgsl::interp::encode::encode(c.program()).expect("encodes");
-    assert!(
-        code.gradient[3] > code.gradient[0],
-        "the gradient did not fit"
-    );
-    compare("grid_40_analytic", &c);
-}

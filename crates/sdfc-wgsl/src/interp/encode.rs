@@ -66,12 +66,6 @@ pub struct Bytecode {
     pub distance: [u32; 2],
     /// Instruction range of the material function (`ret albedo, phong`).
     pub material: [u32; 2],
-    /// `scene_gradient` for `normals: analytic` as three consecutive ranges, one per
-    /// component (`[x start, y start, z start, end]`, each `ret` one number), else all 0.
-    /// Three short functions instead of one: the values the x, y and z derivatives share
-    /// (the `step`s of a union's `min` chain) would otherwise all stay live at once, and a
-    /// 40-sphere union needed more than the 64 registers.
-    pub gradient: [u32; 4],
     /// Registers the code uses (at most [`MAX_REGISTERS`]).
     pub registers: u32,
 }
@@ -98,10 +92,9 @@ struct VIns {
     imm: u32,
 }
 
-/// Encoding state shared by the functions: the constant pool, and the group functions that
-/// calls name (the program's, then the gradient's).
-struct Encoder {
-    groups: std::rc::Rc<Vec<Func>>,
+/// Encoding state shared by the two functions: the constant pool.
+struct Encoder<'p> {
+    program: &'p Program,
     consts: Vec<[f32; 4]>,
     const_index: HashMap<[u32; 4], u32>,
 }
@@ -158,19 +151,8 @@ impl Chunk {
 /// Encodes a program; fails cleanly on an operation without an opcode or a scene beyond
 /// the limits.
 pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
-    // World coordinates, as the interpreter marches; a program whose settings were changed to
-    // analytic normals after compiling gets its gradient here.
-    let gradient = (program.scene.render.normals == sdfc_ir::scene::Normals::Analytic).then(|| {
-        program
-            .gradient
-            .clone()
-            .unwrap_or_else(|| sdfc_ir::gradient_of(&program.distance, &program.groups))
-    });
     let mut e = Encoder {
-        groups: std::rc::Rc::new(match &gradient {
-            Some(g) => g.all_groups(&program.groups),
-            None => program.groups.clone(),
-        }),
+        program,
         consts: Vec::new(),
         const_index: HashMap::new(),
     };
@@ -222,40 +204,6 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     registers = registers.max(allocate(&chunk.ins, &mut code)?);
     let material = [start, code.len() as u32];
 
-    // A gradient that needs more registers than the file has is left out: the frame then
-    // falls back to tetrahedron normals (the CLI says so), rather than refusing a scene whose
-    // distance and material fit.
-    let mut gradient_range = [0; 4];
-    if let Some(g) = &gradient {
-        let f = &g.func;
-        let mut gcode = Vec::new();
-        let mut starts = [0u32; 3];
-        let mut fits = true;
-        let mut most = 0;
-        for k in 0..3 {
-            let mut chunk = Chunk::new();
-            let out = e.func(&mut chunk, f, &f.results[k + 1..k + 2], Val::Reg(POINT), 0)?;
-            let c = reg(out[0], "a gradient component")?;
-            chunk.ins.push(VIns {
-                op: Opcode::Ret,
-                dst: None,
-                args: vec![c],
-                imm: 0,
-            });
-            starts[k] = (code.len() + gcode.len()) as u32;
-            match allocate(&chunk.ins, &mut gcode) {
-                Ok(n) => most = most.max(n),
-                Err(EncodeError::TooLarge(_)) => fits = false,
-                Err(other) => return Err(other),
-            }
-        }
-        if fits {
-            registers = registers.max(most);
-            code.extend(gcode);
-            gradient_range = [starts[0], starts[1], starts[2], code.len() as u32];
-        }
-    }
-
     if code.len() > MAX_INSTRUCTIONS {
         return Err(EncodeError::TooLarge(format!(
             "{} instructions, at most {MAX_INSTRUCTIONS}",
@@ -267,7 +215,6 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         consts: e.consts,
         distance,
         material,
-        gradient: gradient_range,
         registers,
     })
 }
@@ -284,7 +231,7 @@ fn unsupported(what: impl fmt::Display) -> EncodeError {
     EncodeError::Unsupported(what.to_string())
 }
 
-impl Encoder {
+impl Encoder<'_> {
     /// The pool index of a constant, splatted if scalar.
     fn constant(&mut self, v: [f32; 4]) -> Result<u32, EncodeError> {
         let key = v.map(f32::to_bits);
@@ -380,8 +327,7 @@ impl Encoder {
                 Op::Call { func, result } => {
                     let key = (func, node.args()[0]);
                     if let std::collections::btree_map::Entry::Vacant(slot) = inlined.entry(key) {
-                        let groups = std::rc::Rc::clone(&self.groups);
-                        let Some(group) = groups.get(func as usize) else {
+                        let Some(group) = self.program.groups.get(func as usize) else {
                             return Err(unsupported(format!("a call of missing group {func}")));
                         };
                         let want: Vec<u8> = wanted[&key].iter().copied().collect();

@@ -9,7 +9,7 @@ use sdfc_ir::types::Ty;
 use sdfc_ir::Program;
 
 /// Bytes of the `Frame` uniform.
-pub const FRAME_BYTES: usize = 208;
+pub const FRAME_BYTES: usize = 192;
 
 /// `Frame.switches` bit: `epsilon: pixel` (else the absolute `Frame.epsilon`).
 const SWITCH_EPSILON_PIXEL: u32 = 1;
@@ -97,8 +97,8 @@ pub fn frame_data(
     w.u(r.max_steps);
     w.u(r.antialias);
     w.u(match r.normals {
-        // `normals: analytic` runs the bytecode's gradient range.
-        Normals::Analytic if code.gradient[3] > code.gradient[0] => 3,
+        // The interpreter has no gradient code: analytic normals fall back to the
+        // tetrahedron there (docs/language.md).
         Normals::Tetrahedron | Normals::Analytic => 0,
         Normals::Central => 1,
         Normals::Forward => 2,
@@ -134,9 +134,6 @@ pub fn frame_data(
     w.u(code.distance[1]);
     w.u(code.material[0]);
     w.u(code.material[1]);
-    for x in code.gradient {
-        w.u(x);
-    }
     w.u(lights_at);
     w.u(params_at);
     w.u(consts_at);

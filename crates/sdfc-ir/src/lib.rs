@@ -44,8 +44,6 @@ pub struct Program {
     /// (see [`passes::relative`]), which the render shader uses; `distance`, `material` and
     /// `groups` stay in world coordinates (the library form, `sdfc eval`, the reference).
     pub relative: Option<Relative>,
-    /// `scene_gradient` for `normals: analytic` (world coordinates), else `None`.
-    pub gradient: Option<diff::Gradient>,
 }
 
 /// The scene functions in coordinates centred on `origin` (the camera position): each takes
@@ -59,8 +57,6 @@ pub struct Relative {
     pub groups: Vec<Func>,
     /// The scene's lights moved by -origin.
     pub lights: Vec<scene::Light>,
-    /// `scene_gradient` in these coordinates, for `normals: analytic`.
-    pub gradient: Option<diff::Gradient>,
 }
 
 /// The IR at each stage, for golden tests and `--emit`.
@@ -113,24 +109,18 @@ pub fn compile_with(
     let distance_ray = funcs.distance_ray.as_ref().map(&mut opt);
     let material = opt(&funcs.material);
     let groups: Vec<Func> = funcs.groups.iter().map(&mut opt).collect();
-    let analytic = scene.render.normals == scene::Normals::Analytic;
-    let gradient = analytic.then(|| gradient_of(&distance, &groups));
     let relative = passes::relative::wanted(&scene).then(|| {
         let origin = scene.camera.position;
         let shifted = passes::relative::shift(&scene, origin);
         let lights = shifted.lights.clone();
         let rel = to_ssa::functions(&passes::merge::run(&shifted), opts.cull);
-        let distance = opt(&rel.distance);
-        let groups: Vec<Func> = rel.groups.iter().map(&mut opt).collect();
-        let gradient = analytic.then(|| gradient_of(&distance, &groups));
         Relative {
             origin,
             distance_ray: rel.distance_ray.as_ref().map(&mut opt),
-            distance,
+            distance: opt(&rel.distance),
             material: opt(&rel.material),
-            groups,
+            groups: rel.groups.iter().map(&mut opt).collect(),
             lights,
-            gradient,
         }
     });
     // A non-finite constant that reached a function unfolded (a transform of infinite size,
@@ -140,13 +130,11 @@ pub fn compile_with(
             .into_iter()
             .chain(&r.distance_ray)
             .chain(&r.groups)
-            .chain(grad_funcs(&r.gradient))
     });
     for f in [&distance, &material]
         .into_iter()
         .chain(&distance_ray)
         .chain(&groups)
-        .chain(grad_funcs(&gradient))
         .chain(rel_funcs.clone())
     {
         for (id, node) in f.graph.nodes() {
@@ -177,7 +165,6 @@ pub fn compile_with(
         .into_iter()
         .chain(&distance_ray)
         .chain(&groups)
-        .chain(grad_funcs(&gradient))
         .chain(rel_funcs)
     {
         if let Some(what) = &f.graph.ill_typed {
@@ -201,7 +188,6 @@ pub fn compile_with(
         groups,
         analysis,
         relative,
-        gradient,
     };
     (
         Some(Stages {
@@ -212,25 +198,13 @@ pub fn compile_with(
     )
 }
 
-/// The optimised `scene_gradient` of a distance function and its groups (for a program
-/// whose settings were changed to `normals: analytic` after compiling, as `sdfc bench` does).
+/// The optimised `scene_gradient` of a distance function and its groups, for
+/// `normals: analytic` (the emitter derives it from the functions it emits).
 pub fn gradient_of(distance: &Func, groups: &[Func]) -> diff::Gradient {
-    optimise_gradient(diff::gradient(distance, groups))
-}
-
-/// Runs the scalar passes over a gradient's functions. Non-finite constants there come from
-/// the distance's own (reported for it), so the passes' errors are not repeated.
-fn optimise_gradient(g: diff::Gradient) -> diff::Gradient {
     let opt = |f: &Func| passes::optimise(f).0;
+    let g = diff::gradient(distance, groups);
     diff::Gradient {
         func: opt(&g.func),
         groups: g.groups.iter().map(opt).collect(),
     }
-}
-
-/// A gradient's functions, for the checks every function gets.
-fn grad_funcs(g: &Option<diff::Gradient>) -> Vec<&Func> {
-    g.iter()
-        .flat_map(|g| std::iter::once(&g.func).chain(&g.groups))
-        .collect()
 }

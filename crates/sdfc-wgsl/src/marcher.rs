@@ -53,14 +53,15 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += parts::SAFE_NORMALIZE;
     s += "\n";
     let analytic = scene.render.normals == Normals::Analytic;
-    s += match scene.render.normals {
-        Normals::Central => parts::NORMALS_CENTRAL,
-        Normals::Forward => parts::NORMALS_FORWARD,
-        Normals::Tetrahedron => parts::NORMALS_TETRAHEDRON,
-        // `surface_normal` itself takes the gradient (`analytic_surface_normal`).
-        Normals::Analytic => "",
-    };
-    if !analytic {
+    // Analytic normals need no `scene_normal`: `surface_normal` itself takes the gradient
+    // (`analytic_surface_normal`).
+    if let Some(part) = match scene.render.normals {
+        Normals::Central => Some(parts::NORMALS_CENTRAL),
+        Normals::Forward => Some(parts::NORMALS_FORWARD),
+        Normals::Tetrahedron => Some(parts::NORMALS_TETRAHEDRON),
+        Normals::Analytic => None,
+    } {
+        s += part;
         s += "\n";
     }
     match scene.render.shadows {

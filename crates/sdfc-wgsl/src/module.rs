@@ -19,34 +19,15 @@ pub fn emit(p: &Program, lib: bool) -> String {
     // The render shader marches in camera-relative coordinates where the program has them;
     // the library keeps the world coordinates its callers pass.
     let relative = p.relative.as_ref().filter(|_| !lib);
-    let (distance, material, groups, distance_ray, gradient) = match relative {
-        Some(r) => (
-            &r.distance,
-            &r.material,
-            &r.groups,
-            &r.distance_ray,
-            &r.gradient,
-        ),
-        None => (
-            &p.distance,
-            &p.material,
-            &p.groups,
-            &p.distance_ray,
-            &p.gradient,
-        ),
+    let (distance, material, groups, distance_ray) = match relative {
+        Some(r) => (&r.distance, &r.material, &r.groups, &r.distance_ray),
+        None => (&p.distance, &p.material, &p.groups, &p.distance_ray),
     };
-    // Only the marcher's normals call the gradient; a program whose settings were changed
-    // to analytic normals after compiling (`sdfc bench`) gets it here.
+    // `scene_gradient`, derived from the distance function emitted here: only the marcher's
+    // analytic normals call it (errors in its passes are the distance's, reported for it).
     let analytic = p.scene.render.normals == sdfc_ir::scene::Normals::Analytic && !lib;
-    let made;
-    let gradient = match gradient {
-        Some(g) if analytic => Some(g),
-        None if analytic => {
-            made = sdfc_ir::gradient_of(distance, groups);
-            Some(&made)
-        }
-        _ => None,
-    };
+    let gradient = analytic.then(|| sdfc_ir::gradient_of(distance, groups));
+    let gradient = gradient.as_ref();
     let all_groups = gradient.map(|g| g.all_groups(groups));
     // Only the marcher calls the ray form.
     let distance_ray = distance_ray.as_ref().filter(|_| !lib);

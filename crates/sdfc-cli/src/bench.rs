@@ -156,7 +156,7 @@ fn settings(base: &RenderSettings) -> Vec<Setting> {
 }
 
 pub fn run(a: Args) -> Outcome {
-    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params) {
+    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, false) {
         Ok(p) => p,
         Err(o) => return o,
     };

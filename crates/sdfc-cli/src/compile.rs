@@ -24,8 +24,8 @@ pub struct Args {
     #[arg(long)]
     explain: bool,
     /// Emit large unions (16 or more bounded children) as a hierarchy of bounding boxes
-    /// with early-outs; the same distances. Off by default: on the software device measured
-    /// so far it is slower (docs/performance.md)
+    /// with early-outs; the same distances near the surface, a lower bound far from it. Off
+    /// by default: on the software device measured so far it is slower (docs/performance.md)
     #[arg(long)]
     cull: bool,
 }

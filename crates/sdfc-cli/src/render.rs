@@ -35,6 +35,9 @@ pub struct Args {
     /// bytecode, instead of a shader specialised to the scene (the same picture, slower)
     #[arg(long)]
     interpreted: bool,
+    /// Compile large unions with bounding-box early-outs, as `sdfc compile --cull`
+    #[arg(long, conflicts_with = "interpreted")]
+    cull: bool,
     /// Also render the f64 CPU reference and print the GPU frame's error against it (depth,
     /// hit/miss, normals, colour, NaN/Inf) on stdout; -o is optional then
     #[arg(long)]
@@ -116,8 +119,13 @@ pub type Overrides = Vec<(String, Vec<f64>)>;
 pub fn prepare(
     scene: &PathBuf,
     params: &[String],
+    cull: bool,
 ) -> Result<(sdfc_wgsl::Compiled, Overrides, Renderer), Outcome> {
-    let compiled = load_scene(scene, &sdfc_wgsl::Options::default())?;
+    let opts = sdfc_wgsl::Options {
+        cull,
+        ..sdfc_wgsl::Options::default()
+    };
+    let compiled = load_scene(scene, &opts)?;
     let overrides = param_overrides(compiled.program(), params)?;
     let renderer = open_renderer()?;
     Ok((compiled, overrides, renderer))
@@ -190,7 +198,7 @@ pub fn run(a: Args) -> Outcome {
         eprintln!("error: --time must be finite, found {}", a.time);
         return Outcome::EnvError;
     }
-    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params) {
+    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, a.cull) {
         Ok(p) => p,
         Err(o) => return o,
     };

@@ -735,3 +735,53 @@ fn bench_of_a_broken_scene_is_an_input_error() {
     assert_eq!(run.code, 1, "{}", run.describe());
     assert!(run.stderr.contains("s.sdf:2:9"), "{}", run.stderr);
 }
+
+/// `--cull` renders a large union through its bounding-box hierarchy: the same hits, and
+/// depths to 1e-4 relative (the culled field is exact near the surface), as without it.
+#[test]
+fn cull_renders_the_same_depths() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("cull");
+    let mut src =
+        String::from("camera { position: [0, 3, 5], target: [0, 0, -2] }\nscene = union(\n");
+    for i in 0..24 {
+        let (x, z) = ((i % 6) as f64 - 2.5, (i / 6) as f64 * -1.5);
+        src += &format!("    sphere(0.5).translate([{x}, 0, {z}]),\n");
+    }
+    src += ");\n";
+    let scene = t.write("u.sdf", &src);
+    let (plain, culled) = (t.path("plain.npy"), t.path("culled.npy"));
+    for (out, extra) in [(&plain, None), (&culled, Some("--cull"))] {
+        let mut args = vec![
+            "render",
+            s(&scene),
+            "-o",
+            s(out),
+            "--aov",
+            "depth",
+            "--size",
+            "32x24",
+        ];
+        args.extend(extra);
+        sdfc_in(&t.0, &args).expect_code(0);
+    }
+    let (_, a) = read_npy(&plain);
+    let (_, b) = read_npy(&culled);
+    let hits = a.iter().filter(|d| d.is_finite()).count();
+    assert!(hits > 50, "only {hits} hits");
+    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert_eq!(
+            x.is_finite(),
+            y.is_finite(),
+            "pixel {i}: plain {x}, culled {y}"
+        );
+        if x.is_finite() {
+            assert!(
+                (x - y).abs() <= 1e-4 * x,
+                "pixel {i}: plain {x}, culled {y}"
+            );
+        }
+    }
+}

@@ -3,9 +3,10 @@
 
 use crate::func::Func;
 use crate::graph::{Graph, NodeId};
-use crate::ops::{Builtin, Helper, Op};
+use crate::ops::{Builtin, Helper, Op, NO_BEST};
 use crate::types::Ty;
 use crate::value::{dot, length, zip, zip3, Float, Value};
+use std::cell::Cell;
 
 /// The values of a function's inputs.
 #[derive(Clone, Debug)]
@@ -32,19 +33,46 @@ impl<T: Float> Inputs<T> {
 /// (a lambda argument left in the graph evaluates to zero; so does a group call: use
 /// [`eval_func`] for functions that call groups).
 pub fn eval_graph<T: Float>(g: &Graph, roots: &[NodeId], inputs: &Inputs<T>) -> Vec<Value<T>> {
-    eval_graph_in(g, roots, inputs, &[])
+    eval_graph_in(g, roots, inputs, &[], no_best(), &Cell::new(0))
 }
 
 /// Evaluates a function of a program, whose group functions are `groups`.
 pub fn eval_func<T: Float>(f: &Func, groups: &[Func], inputs: &Inputs<T>) -> Vec<Value<T>> {
-    eval_graph_in(&f.graph, &f.results, inputs, groups)
+    eval_graph_in(
+        &f.graph,
+        &f.results,
+        inputs,
+        groups,
+        no_best(),
+        &Cell::new(0),
+    )
 }
 
+/// [`eval_func`], and how many nodes it evaluated (in every group it called): the work a
+/// shader does at this point where its branches are real (skipped calls cost nothing), the
+/// measure of what culling saves (`tests/tests/culling.rs`).
+pub fn eval_func_work<T: Float>(
+    f: &Func,
+    groups: &[Func],
+    inputs: &Inputs<T>,
+) -> (Vec<Value<T>>, usize) {
+    let work = Cell::new(0);
+    let v = eval_graph_in(&f.graph, &f.results, inputs, groups, no_best(), &work);
+    (v, work.get())
+}
+
+fn no_best<T: Float>() -> T {
+    T::from_f64(f64::from(NO_BEST))
+}
+
+/// `best` is the value of [`Op::Best`]: the caller's best distance in a guarded group.
 fn eval_graph_in<T: Float>(
     g: &Graph,
     roots: &[NodeId],
     inputs: &Inputs<T>,
     groups: &[Func],
+    best: T,
+    work: &Cell<usize>,
 ) -> Vec<Value<T>> {
     let mut vals: Vec<Option<Value<T>>> = vec![None; g.len()];
     let mut need = vec![false; g.len()];
@@ -61,12 +89,16 @@ fn eval_graph_in<T: Float>(
     // One evaluation per call site: a group's distance and material results are separate
     // `Call` nodes on the same argument, and evaluating the callee for each of them made
     // nested groups exponential.
-    let mut calls: crate::hash::FxHashMap<(u32, NodeId), Vec<Value<T>>> = Default::default();
+    // Keyed by all arguments: a guarded group's value depends on the best distance too.
+    let mut calls: crate::hash::FxHashMap<(u32, Vec<NodeId>), Vec<Value<T>>> = Default::default();
     for i in 0..g.len() {
         if !need[i] {
             continue;
         }
         let node = g.node(NodeId(i as u32));
+        if !matches!(node.op, Op::Const(_)) {
+            work.set(work.get() + 1);
+        }
         let args: Vec<Value<T>> = node
             .args()
             .iter()
@@ -76,6 +108,7 @@ fn eval_graph_in<T: Float>(
             Op::Point => Value::V3(inputs.point),
             Op::Ray => Value::V3(inputs.ray),
             Op::Time => Value::F(inputs.time),
+            Op::Best => Value::F(best),
             Op::Param(k) => inputs
                 .params
                 .get(k as usize)
@@ -97,15 +130,22 @@ fn eval_graph_in<T: Float>(
                     }
                 }
                 (Some(f), Some(Value::V3(p))) => {
-                    let r = calls.entry((func, node.args()[0])).or_insert_with(|| {
-                        let sub = Inputs {
-                            point: *p,
-                            ray: inputs.ray,
-                            params: inputs.params.clone(),
-                            time: inputs.time,
-                        };
-                        eval_graph_in(&f.graph, &f.results, &sub, groups)
-                    });
+                    // A guarded call hands its best distance on (`[p, bound, best]`).
+                    let best = match args.get(2) {
+                        Some(Value::F(b)) => *b,
+                        _ => no_best(),
+                    };
+                    let r = calls
+                        .entry((func, node.args().to_vec()))
+                        .or_insert_with(|| {
+                            let sub = Inputs {
+                                point: *p,
+                                ray: inputs.ray,
+                                params: inputs.params.clone(),
+                                time: inputs.time,
+                            };
+                            eval_graph_in(&f.graph, &f.results, &sub, groups, best, work)
+                        });
                     r.get(result as usize)
                         .copied()
                         .unwrap_or_else(|| zero_of(node.ty))
@@ -134,9 +174,13 @@ pub fn apply<T: Float>(op: Op, ty: Ty, a: &[Value<T>]) -> Value<T> {
     };
     match op {
         Op::Const(c) => c.to_value().cast(),
-        Op::Point | Op::Ray | Op::Time | Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => {
-            zero_of(ty)
-        }
+        Op::Point
+        | Op::Ray
+        | Op::Time
+        | Op::Best
+        | Op::Param(_)
+        | Op::LambdaArg { .. }
+        | Op::Call { .. } => zero_of(ty),
         Op::Neg => a[0].map(|x| -x),
         Op::Add => zip(&a[0], &a[1], |x, y| x + y),
         Op::Sub => zip(&a[0], &a[1], |x, y| x - y),

@@ -238,7 +238,7 @@ pub fn infer(op: Op, a: &[Ty]) -> Option<Ty> {
             Value::M3(_) => Mat3,
         }),
         Op::Point | Op::Ray => Some(Vec3),
-        Op::Time => Some(F32),
+        Op::Time | Op::Best => Some(F32),
         Op::Param(_) | Op::LambdaArg { .. } | Op::Call { .. } => None,
         Op::Neg => (a.len() == 1 && float(a[0])).then_some(a[0]),
         Op::Add | Op::Sub | Op::Mul | Op::Div | Op::Mod => {

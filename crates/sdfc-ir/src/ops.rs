@@ -16,6 +16,10 @@ pub enum Op {
     Param(u16),
     /// Seconds, from the frame uniform.
     Time,
+    /// In a culled union's group function: the caller's best distance so far, an upper bound
+    /// above which the group's exact value is not needed (`to_ssa/cull.rs`). A group whose
+    /// graph reads it takes it as a parameter; where it is not known it is [`NO_BEST`].
+    Best,
     /// A lambda's parameter, replaced by a real value when the lambda is applied.
     LambdaArg {
         lambda: u32,
@@ -53,6 +57,10 @@ pub enum Op {
         result: u8,
     },
 }
+
+/// The value of [`Op::Best`] where no caller bounds the group (the interpreter, gradient
+/// functions): finite, so that it stays an ordinary number, and above any real distance.
+pub const NO_BEST: f32 = 3.0e38;
 
 /// Component selection, `.x` to `.zyx`; `idx[..len]` are the components.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

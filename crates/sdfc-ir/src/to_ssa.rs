@@ -107,7 +107,9 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
 #[derive(Default)]
 struct Groups {
     funcs: Vec<Func>,
-    index: FxHashMap<(Vec<ShapeId>, u32), u32>,
+    /// By children, material and whether the group is a culled half (which reads the
+    /// caller's best distance).
+    index: FxHashMap<(Vec<ShapeId>, u32, bool), u32>,
 }
 
 /// A shape built at a point, by shape, point, material, direction (`dir`, with `dir_signs`
@@ -125,6 +127,9 @@ struct Builder<'s> {
     info: &'s [NodeInfo],
     /// Whether large unions get bounding-box early-outs (`cull.rs`).
     cull: bool,
+    /// Whether the union about to be built is a culled half's body, called only where its
+    /// box is nearer than the caller's best distance (`Op::Best`); `cull.rs` takes it.
+    culled_body: bool,
     g: Graph,
     materials: bool,
     imported: FxHashMap<NodeId, NodeId>,
@@ -162,6 +167,7 @@ impl<'s> Builder<'s> {
             body_of: None,
             info,
             cull: true,
+            culled_body: false,
             g: Graph::new(),
             materials,
             imported: FxHashMap::default(),
@@ -196,7 +202,7 @@ impl<'s> Builder<'s> {
         mat: u32,
         guard: Option<(NodeId, NodeId)>,
     ) -> (NodeId, Option<Mat>) {
-        let key = (children.to_vec(), mat);
+        let key = (children.to_vec(), mat, guard.is_some());
         let index = match self.groups.index.get(&key) {
             Some(i) => *i,
             None => {
@@ -208,6 +214,7 @@ impl<'s> Builder<'s> {
                     std::mem::take(&mut self.groups),
                 );
                 sub.cull = self.cull;
+                sub.culled_body = guard.is_some();
                 sub.values_matter = true;
                 if let [only] = children {
                     sub.body_of = Some(*only);

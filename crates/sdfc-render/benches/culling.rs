@@ -2,8 +2,8 @@
 //! early-outs (`sdfc compile --cull`), rendered at 160x120 on the same device in one run.
 //! Before divan's table it prints, per scene, device time (timestamp queries where the
 //! adapter has them, else wall time), both ways, their ratio, and the largest depth difference
-//! between the two pictures (the culled field equals the plain one for exact shapes, so the
-//! error is the same).
+//! between the two pictures and how many pixels differ by more than 1e-4 relative (the culled
+//! field equals the plain one near exact shapes, so the error should be the same).
 //!
 //! `cargo bench -p sdfc-render --bench culling`
 
@@ -60,13 +60,18 @@ fn depth(c: &Compiled) -> Vec<f32> {
     f.aovs.expect("aovs").depth
 }
 
+/// Whether two depths agree to 1e-4 relative (a hit and a miss, inf and finite, do not).
+fn within(a: f32, b: f32) -> bool {
+    a.is_finite() && b.is_finite() && (a - b).abs() <= 1e-4 * a.abs().max(b.abs())
+}
+
 fn main() {
     let r = renderer();
     println!("adapter: {}", r.adapter_description());
     println!("image: {WIDTH}x{HEIGHT}, grid scenes of spheres, boxes and tori");
     println!(
-        "{:<10} {:>12} {:>12} {:>8} {:>22}",
-        "shapes", "plain", "culled", "speedup", "max depth difference"
+        "{:<10} {:>12} {:>12} {:>8} {:>22} {:>8}",
+        "shapes", "plain", "culled", "speedup", "max depth difference", "pixels"
     );
     for n in SIZES {
         let (plain, culled) = (compiled(n, false), compiled(n, true));
@@ -78,8 +83,14 @@ fn main() {
             .filter(|(a, b)| a.is_finite() || b.is_finite())
             .map(|(a, b)| if a == b { 0.0 } else { (a - b).abs() })
             .fold(0.0f32, f32::max);
+        // Pixels whose depth differs by more than 1e-4 relative (or that hit in one only).
+        let differ = dp
+            .iter()
+            .zip(&dc)
+            .filter(|(a, b)| a != b && !within(**a, **b))
+            .count();
         println!(
-            "{n:<10} {:>12} {:>12} {:>7.2}x {diff:>22.3e}",
+            "{n:<10} {:>12} {:>12} {:>7.2}x {diff:>22.3e} {differ:>8}",
             format!("{tp:.2?}"),
             format!("{tc:.2?}"),
             tp.as_secs_f64() / tc.as_secs_f64()

@@ -77,6 +77,9 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
                     let flag = wants_material.get(&key).copied().unwrap_or(false);
                     let call = if callee.kind == FuncKind::Gradient {
                         format!("{}({})", callee.name, text[arg.index()])
+                    } else if let (true, [_, _, best]) = (reads_best(callee), node.args()) {
+                        let best = &text[best.index()];
+                        format!("{}({}, {best}, {flag})", callee.name, text[arg.index()])
                     } else {
                         format!("{}({}, {flag})", callee.name, text[arg.index()])
                     };
@@ -156,9 +159,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             let _ = writeln!(s, "    return SceneMaterial({}, {});", r[0], r[1]);
         }
         FuncKind::Group => {
+            // A culled half also takes the caller's best distance (`Op::Best`).
+            let best = if reads_best(f) { " best: f32," } else { "" };
             let _ = writeln!(
                 s,
-                "fn {}(p: vec3<f32>, with_material: bool) -> SceneSample {{",
+                "fn {}(p: vec3<f32>,{best} with_material: bool) -> SceneSample {{",
                 f.name
             );
             s += &parts[0];
@@ -176,6 +181,11 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
     }
     s += "}\n";
     s
+}
+
+/// Whether a group function reads its caller's best distance, and so takes it as a parameter.
+pub fn reads_best(f: &Func) -> bool {
+    f.graph.nodes().any(|(_, n)| n.op == Op::Best)
 }
 
 /// Wraps an operand that starts with `-` so `a - -1.0` never reads as a decrement.
@@ -196,6 +206,7 @@ fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
         Op::Point => ("p".into(), true),
         Op::Ray => ("rd".into(), true),
         Op::Time => ("scene_time".into(), true),
+        Op::Best => ("best".into(), true),
         Op::Param(i) => {
             let sw = match node.ty {
                 Ty::F32 => "x",

@@ -50,7 +50,8 @@ pub struct Options {
     /// A naga_oil `#define_import_path` for the library form.
     pub import_path: Option<String>,
     /// Bounding-box early-outs in large unions (`sdfc compile --cull`); the distances are the
-    /// same either way. Off by default until it is measured to win (docs/performance.md).
+    /// same near the surface, and a lower bound far from every part of the union. Off by
+    /// default until it is measured to win on a device (docs/performance.md).
     pub cull: bool,
 }
 

@@ -232,6 +232,7 @@ pub fn bound(g: &Graph, root: NodeId, input: &dyn Fn(Op, usize) -> Option<Vec<Co
             | Op::Ray
             | Op::Param(_)
             | Op::Time
+            | Op::Best
             | Op::LambdaArg { .. }
             | Op::Call { .. }) => input(op, width).unwrap_or_else(|| vec![Comp::UNKNOWN; width]),
             op => apply(op, &args, width),

@@ -78,6 +78,8 @@ fn differentiate(f: &Func, base: u32, name: String) -> Func {
             Op::Call { func, result: 0 } => d.call(func, args[0]),
             // Only a group's distance is differentiated; other results are not needed.
             Op::Call { .. } => d.g.add_typed(node.op, &args, node.ty, src.span(id)),
+            // Gradient functions are called unguarded, with no best distance to cut at.
+            Op::Best => d.g.f32(crate::ops::NO_BEST),
             op => d.node_spanned(op, &args, node.ty, src.span(id)),
         };
         d.g.set_hint(new, src.hint(id));

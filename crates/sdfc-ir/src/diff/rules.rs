@@ -90,6 +90,7 @@ impl Differ {
                 | Op::Ray
                 | Op::Param(_)
                 | Op::Time
+                | Op::Best
                 | Op::LambdaArg { .. }
                 | Op::Call { .. }
                 | Op::Lt

@@ -483,6 +483,7 @@ impl<'a> Lowerer<'a> {
             | Op::Ray
             | Op::Param(_)
             | Op::Time
+            | Op::Best
             | Op::LambdaArg { .. }
             | Op::Call { .. } => None,
             op => {

@@ -22,6 +22,7 @@ pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Opt
             | Op::Ray
             | Op::Param(_)
             | Op::Time
+            | Op::Best
             | Op::LambdaArg { .. }
             | Op::Call { .. }
     ) {

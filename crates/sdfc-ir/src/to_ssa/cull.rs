@@ -3,22 +3,41 @@
 //! found so far. A step near one object then evaluates that object's branch and a few box
 //! tests instead of every child.
 //!
-//! Why the value does not change: a child's box has a signed distance no greater than the
-//! child's own (every point of the child lies in its box, and the child's distance is exact or
-//! a bound; `analysis::bounds`). Where `box(p) >= best`, the child's distance is `>= best` too,
-//! so `min(best, child)` is `best` whether or not the child is evaluated; the skipped call
-//! reports `box(p)` as its distance, which the `min` also discards. Hard unions pick the
-//! nearer material with a strict `<`, so a skipped child never wins the material either.
+//! Why the value does not change near the surface: a child's box has a signed distance no
+//! greater than the child's own (every point of the child lies in its box, and the child's
+//! distance is exact or a bound; `analysis::bounds`). Where `box(p) >= best`, the child's
+//! distance is `>= best` too, so `min(best, child)` is `best` whether or not the child is
+//! evaluated; the skipped call reports `box(p)` as its distance, which the `min` also
+//! discards. Hard unions pick the nearer material with a strict `<`, so a skipped child never
+//! wins the material either. The best distance is handed down (`Op::Best`), so a part's own
+//! parts are tested against the tightest value known, not just their siblings'.
+//!
+//! Far from a part (farther from its box than the box's half-diagonal, its *reach*) the part
+//! answers with its box's distance instead of being evaluated. That is a lower bound of its
+//! true distance, and 1-Lipschitz, so marching stays safe; the union's value is exact
+//! wherever it is below the smallest reach on the way to the nearest shape, and between that
+//! and the exact value elsewhere. On a 300-shape grid seen from its camera this cuts the work
+//! per step 23x, against 2.3x for exact culling in the same hierarchy (`tests/tests/culling.rs`): far from
+//! a dense cluster every part is "about as near" as the nearest one, so exact culling has to
+//! open most of them to find the minimum that no marcher needs there.
 
 use super::{Builder, Mat};
 use crate::analysis::bounds::Aabb;
 use crate::graph::NodeId;
-use crate::ops::{Builtin, Helper, Op};
+use crate::ops::{Builtin, Helper, Op, NO_BEST};
 use crate::shape::{CombineOp, ShapeId};
 
 /// Unions of fewer bounded children than this are evaluated plainly: their box tests would
 /// cost about as much as the children.
 pub const CULL_MIN: usize = 16;
+
+/// How many parts a culled union splits into at each level: more parts mean more box tests
+/// per level but fewer levels, and a tighter starting bound (the nearest part's far corner).
+pub const FAN_OUT: usize = 8;
+
+/// Inside a culled union's parts the split goes on down to leaves of fewer than this many
+/// children: each level costs two box tests, and a leaf's children are all evaluated.
+pub const CULL_LEAF: usize = 8;
 
 impl Builder<'_> {
     /// The culled form of `union(children)` at `p`, or `None` where culling does not apply
@@ -29,7 +48,11 @@ impl Builder<'_> {
         p: NodeId,
         mat: u32,
     ) -> Option<(NodeId, Option<Mat>)> {
-        let (mut bounded, free): (Vec<(ShapeId, Aabb)>, Vec<ShapeId>) = {
+        // Whether this union is the body of a culled half: it may then stop at the caller's
+        // best distance, and split further. Taken first, so nested unions do not inherit it.
+        let inherited = std::mem::take(&mut self.culled_body);
+        let min = if inherited { CULL_LEAF } else { CULL_MIN };
+        let (bounded, free): (Vec<(ShapeId, Aabb)>, Vec<ShapeId>) = {
             let mut b = Vec::new();
             let mut f = Vec::new();
             for &c in children {
@@ -40,7 +63,7 @@ impl Builder<'_> {
             }
             (b, f)
         };
-        if bounded.len() < CULL_MIN {
+        if bounded.len() < min {
             return None;
         }
         // Unbounded children (a ground plane, say) first, unguarded: they set the first
@@ -50,36 +73,70 @@ impl Builder<'_> {
             // Through the plain path, which splits many of them into groups.
             _ => Some(self.combine(CombineOp::Union, None, &free, p, mat)),
         };
-        // Two halves by the median along the longest axis of the children's centres.
-        sort_along_longest_axis(&mut bounded);
-        let (lo, hi) = bounded.split_at(bounded.len() / 2);
-        let halves: Vec<(Vec<ShapeId>, Aabb)> = [lo, hi]
+        // Up to FAN_OUT parts, by repeated median splits of the largest part along the
+        // longest axis of its children's centres.
+        let mut parts: Vec<Vec<(ShapeId, Aabb)>> = vec![bounded];
+        while parts.len() < FAN_OUT {
+            let Some((i, _)) = parts
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.len() >= 2)
+                .max_by_key(|(i, v)| (v.len(), std::cmp::Reverse(*i)))
+            else {
+                break;
+            };
+            let mut part = parts.remove(i);
+            sort_along_longest_axis(&mut part);
+            let hi = part.split_off(part.len() / 2);
+            parts.insert(i, hi);
+            parts.insert(i, part);
+        }
+        let parts: Vec<(Vec<ShapeId>, Aabb)> = parts
             .iter()
-            .map(|half| {
-                let ids = half.iter().map(|(c, _)| *c).collect();
-                let bx = half
+            .map(|part| {
+                let ids = part.iter().map(|(c, _)| *c).collect();
+                let bx = part
                     .iter()
                     .map(|(_, b)| *b)
                     .reduce(|a, b| a.hull(&b))
-                    .unwrap_or(half[0].1);
+                    .unwrap_or(part[0].1);
                 (ids, bx)
             })
             .collect();
         // An upper bound to start from: a shape inside a box is no farther than the box's
-        // farthest corner. It lets the first half be skipped too where the second is nearer;
-        // it never becomes the union's value, since the half that attains it is evaluated
-        // (its own distance is no greater) unless a nearer one was found first.
-        let far: Vec<NodeId> = halves.iter().map(|(_, bx)| self.box_far(p, bx)).collect();
-        let mut upper = far[0];
-        for &f in &far[1..] {
-            upper = self.g.builtin(Builtin::Min, &[upper, f]);
+        // farthest corner, and the caller needs nothing above its own best. It lets a part
+        // be skipped even before any nearer one was evaluated; it never becomes the union's
+        // value, since the part that attains it is evaluated (its own distance is no
+        // greater) unless a nearer one was found first.
+        let mut upper = if inherited {
+            let best = self.g.op(Op::Best, &[]);
+            self.g.set_hint(best, "best");
+            Some(best)
+        } else {
+            None
+        };
+        for (_, bx) in &parts {
+            let f = self.box_far(p, bx);
+            upper = Some(match upper {
+                Some(u) => self.g.builtin(Builtin::Min, &[u, f]),
+                None => f,
+            });
         }
+        let upper = upper.unwrap_or_else(|| self.f(NO_BEST));
+        let upper = self.hinted(upper, "upper");
         let mut acc = Some(match acc {
             Some((d, m)) => (self.g.builtin(Builtin::Min, &[d, upper]), m),
             None => (upper, self.materials.then(|| self.material_const(mat))),
         });
-        for (ids, bx) in &halves {
+        // Each part is called once, where its box is nearer than the best so far, and is
+        // handed that best: its own parts are tested against it in turn.
+        for (ids, bx) in &parts {
             let best = acc.map(|(d, _)| d).unwrap_or(upper);
+            // Farther from its box than the box's half-diagonal, a part contributes its
+            // box's distance, a lower bound, instead of being evaluated.
+            let reach = self.f(half_diagonal(bx) as f32);
+            let best = self.g.builtin(Builtin::Min, &[best, reach]);
+            let best = self.hinted(best, "cut");
             let guard = Some((self.box_distance(p, bx), best));
             let part = self.group_call(ids, p, mat, guard);
             acc = Some(self.union_with(acc, part));
@@ -138,6 +195,12 @@ impl Builder<'_> {
         let l = self.g.builtin(Builtin::Length, &[a]);
         self.hinted(l, "far")
     }
+}
+
+/// Half the length of a box's diagonal.
+fn half_diagonal(bx: &Aabb) -> f64 {
+    let h = [0, 1, 2].map(|i| 0.5 * (bx.hi[i] - bx.lo[i]));
+    (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt()
 }
 
 /// Sorts children by their box centres along the axis where the centres spread most.

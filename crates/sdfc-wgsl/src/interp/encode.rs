@@ -377,6 +377,8 @@ impl Encoder<'_> {
             Op::Const(k) => self.load_const(c, &k.to_value()),
             Op::Point => Ok(point),
             Op::Time => Ok(Val::Load(Opcode::Time, 0)),
+            // Groups are inlined and evaluated whole: no caller's best to stop at.
+            Op::Best => self.load_const(c, &sdfc_ir::value::Value::F(sdfc_ir::ops::NO_BEST)),
             Op::Param(i) => Ok(Val::Load(Opcode::Param, u32::from(i))),
             // As in the WGSL emitter: only reachable if a lambda argument escaped substitution.
             Op::LambdaArg { .. } => self.load_const(c, &sdfc_ir::eval::zero_of(node.ty)),

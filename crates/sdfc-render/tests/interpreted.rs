@@ -208,12 +208,10 @@ fn every_helper_and_operation() {
 #[test]
 #[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn a_union_split_into_groups() {
-    // The benchmark's 300-shape grid needs 81 registers: beyond the file, a clean error.
+    // The benchmark's 300-shape grid fits the register file (56 of 64 registers, since
+    // the encoder schedules a union's material child by child).
     let big = compile("grid_300", &sdfc_tests::grid_scene(300));
-    assert!(matches!(
-        sdfc_wgsl::interp::encode::encode(big.program()),
-        Err(sdfc_wgsl::interp::encode::EncodeError::TooLarge(_))
-    ));
+    assert!(sdfc_wgsl::interp::encode::encode(big.program()).is_ok());
     let src = sdfc_tests::grid_scene(40);
     let c = compile("grid_40", &src);
     assert!(

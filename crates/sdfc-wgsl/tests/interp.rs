@@ -95,6 +95,35 @@ fn large_and_grouped_scenes_fit_the_register_file() {
     assert!(code.registers <= MAX_REGISTERS);
 }
 
+/// Rotations shared by shapes far apart in a union (here `rotate_y(i % 90)` and
+/// `rotate_x(i % 180)`, as in the benchmarks' grid scene) are loaded where they are used, so
+/// they do not hold registers between uses: the 300-shape grid once needed 81.
+#[test]
+fn a_grid_of_300_rotated_shapes_fits_the_register_file() {
+    let mut src = String::from("scene = union(\n");
+    for i in 0..300 {
+        let pos = format!("[{}, {}, {}]", i % 7, (i / 7) % 7, i / 49);
+        src += &match i % 3 {
+            0 => format!("    sphere(0.3).translate({pos}),\n"),
+            1 => format!(
+                "    box([0.5, 0.4, 0.5]).rotate_y({}deg).translate({pos}),\n",
+                i % 90
+            ),
+            _ => format!(
+                "    torus(0.4, 0.1).rotate_x({}deg).translate({pos}),\n",
+                i % 180
+            ),
+        };
+    }
+    src += ");\n";
+    let code = encode(&program(&src)).expect("encodes");
+    assert!(
+        code.registers <= MAX_REGISTERS,
+        "{} registers",
+        code.registers
+    );
+}
+
 #[test]
 fn too_many_live_values_is_a_clean_error() {
     // Terms t_i used twice: by a sum, then by a product. Whatever the order, every term

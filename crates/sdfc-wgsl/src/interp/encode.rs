@@ -79,6 +79,10 @@ enum Val {
     /// it: graphs list constants early, and loading them all up front would keep hundreds of
     /// registers busy in a large union.
     Load(Opcode, u32),
+    /// A constant matrix, by its columns' constant indices, loaded where it is used: a
+    /// rotation shared by shapes far apart in a union would otherwise hold three registers
+    /// all the way between them (the 300-shape grid needed 81 registers so).
+    MatLoad([u32; 3]),
 }
 
 /// A load is reused while it is at most this many instructions old, else loaded again.
@@ -121,6 +125,15 @@ impl Chunk {
 
     /// A value in a register: loads are emitted here, or reused while recent.
     fn materialize(&mut self, v: Val) -> Val {
+        if let Val::MatLoad(cols) = v {
+            return Val::Mat(
+                cols.map(|i| match self.materialize(Val::Load(Opcode::Const, i)) {
+                    Val::Reg(r) => r,
+                    // `materialize` of a load is always a register.
+                    _ => POINT,
+                }),
+            );
+        }
         let Val::Load(op, imm) = v else {
             return v;
         };
@@ -222,7 +235,9 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
 fn reg(v: Val, what: &str) -> Result<u32, EncodeError> {
     match v {
         Val::Reg(r) => Ok(r),
-        Val::Mat(_) => Err(EncodeError::Unsupported(format!("{what} is a matrix"))),
+        Val::Mat(_) | Val::MatLoad(_) => {
+            Err(EncodeError::Unsupported(format!("{what} is a matrix")))
+        }
         Val::Load(..) => Err(unsupported(format!("{what} was not loaded"))),
     }
 }
@@ -249,7 +264,7 @@ impl Encoder<'_> {
         Ok(i)
     }
 
-    fn load_const(&mut self, c: &mut Chunk, v: &Value<f32>) -> Result<Val, EncodeError> {
+    fn load_const(&mut self, v: &Value<f32>) -> Result<Val, EncodeError> {
         let lanes = |x: &[f32]| {
             let mut a = [0.0; 4];
             a[..x.len()].copy_from_slice(x);
@@ -264,10 +279,9 @@ impl Encoder<'_> {
             Value::M3(m) => {
                 let mut cols = [0; 3];
                 for (col, m) in cols.iter_mut().zip(m) {
-                    let i = self.constant(lanes(&m))?;
-                    *col = c.emit(Opcode::Const, &[], i);
+                    *col = self.constant(lanes(&m))?;
                 }
-                return Ok(Val::Mat(cols));
+                return Ok(Val::MatLoad(cols));
             }
         };
         Ok(Val::Load(Opcode::Const, self.constant(vec)?))
@@ -316,7 +330,7 @@ impl Encoder<'_> {
         }
         let mut inlined: BTreeMap<(u32, NodeId), BTreeMap<u8, Val>> = BTreeMap::new();
         let mut vals: Vec<Option<Val>> = vec![None; g.len()];
-        for id in demand_order(g, results) {
+        for id in schedule(g, results) {
             let node = g.node(id);
             let mut args = Vec::with_capacity(node.args().len());
             for a in node.args() {
@@ -374,14 +388,14 @@ impl Encoder<'_> {
             Ok(Val::Reg(c.emit(op, &r, 0)))
         };
         match node.op {
-            Op::Const(k) => self.load_const(c, &k.to_value()),
+            Op::Const(k) => self.load_const(&k.to_value()),
             Op::Point => Ok(point),
             Op::Time => Ok(Val::Load(Opcode::Time, 0)),
             // Groups are inlined and evaluated whole: no caller's best to stop at.
-            Op::Best => self.load_const(c, &sdfc_ir::value::Value::F(sdfc_ir::ops::NO_BEST)),
+            Op::Best => self.load_const(&sdfc_ir::value::Value::F(sdfc_ir::ops::NO_BEST)),
             Op::Param(i) => Ok(Val::Load(Opcode::Param, u32::from(i))),
             // As in the WGSL emitter: only reachable if a lambda argument escaped substitution.
-            Op::LambdaArg { .. } => self.load_const(c, &sdfc_ir::eval::zero_of(node.ty)),
+            Op::LambdaArg { .. } => self.load_const(&sdfc_ir::eval::zero_of(node.ty)),
             Op::Call { .. } => Err(unsupported("a nested call")),
             Op::Neg => simple(c, Opcode::Neg),
             Op::Add => simple(c, Opcode::Add),
@@ -514,6 +528,55 @@ impl Encoder<'_> {
 /// union before the first `min`). As in Sethi-Ullman numbering, the argument that needs the
 /// most registers is computed first, so a right-nested `min(a, min(b, ...))` holds one
 /// value at a time, not one per level.
+/// The order to encode a graph's needed nodes in: depth first from the results
+/// ([`demand_order`]), or the graph's own order, whichever keeps fewer values live at once.
+/// The graph's order wins for a union's material: it was built child by child (distance,
+/// running minimum, nearer-material selects), while depth first from the results finishes
+/// the distance chain before the selects start and keeps every child's distance live between
+/// (the 300-shape grid needed 81 registers so).
+fn schedule(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
+    let demand = demand_order(g, results);
+    let mut needed = vec![false; g.len()];
+    for id in &demand {
+        needed[id.index()] = true;
+    }
+    let own: Vec<NodeId> = (0..g.len() as u32)
+        .map(NodeId)
+        .filter(|id| needed[id.index()])
+        .collect();
+    if max_live(g, &own, results) < max_live(g, &demand, results) {
+        own
+    } else {
+        demand
+    }
+}
+
+/// The most values live at once when `order` is encoded (constants count, though they are
+/// loaded at use: an estimate to compare orders by).
+fn max_live(g: &Graph, order: &[NodeId], results: &[NodeId]) -> usize {
+    let mut last = vec![usize::MAX; g.len()];
+    for (i, id) in order.iter().enumerate() {
+        for a in g.node(*id).args() {
+            last[a.index()] = i;
+        }
+    }
+    for r in results {
+        last[r.index()] = order.len();
+    }
+    let mut ends = vec![0usize; order.len() + 1];
+    let (mut live, mut most) = (0usize, 0usize);
+    for (i, id) in order.iter().enumerate() {
+        let l = last[id.index()];
+        if l != usize::MAX {
+            live += 1;
+            ends[l] += 1;
+        }
+        most = most.max(live);
+        live -= ends[i];
+    }
+    most
+}
+
 fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
     // Registers each node needs (an estimate: shared arguments are counted on each path).
     let mut need = vec![0u32; g.len()];

@@ -302,3 +302,31 @@ fn scene_files_are_found_relative_to_the_crate() {
     assert!(Path::new(&root).join("scenes").is_dir());
     assert!(Path::new(&root).join("errors").is_dir());
 }
+
+/// A culled union's WGSL (`--cull`): 64 spheres on an 8x8 grid split into 8 parts and those
+/// into leaves, each guarded by its box against the best distance so far and handed that best
+/// (`best: f32`), with the part's reach as a cut. Reviewed as text; naga validates it inside
+/// `compile`.
+#[test]
+fn culled_union_wgsl() {
+    let mut src = String::from("scene = union(\n");
+    for i in 0..64 {
+        src += &format!("    sphere(0.4).translate([{}, 0, {}]),\n", i % 8, i / 8);
+    }
+    src += ");\n";
+    let opts = Options {
+        cull: true,
+        ..Options::default()
+    };
+    let c = compile("culled_union", &src, &opts);
+    // From the first group function to the end of `scene_distance`.
+    let start = c.wgsl.find("fn scene_group0(").expect("group functions");
+    let dist = c.wgsl.find("fn scene_distance(").expect("scene_distance");
+    let end = dist + c.wgsl[dist..].find("\n}\n").expect("its end") + 3;
+    let funcs = &c.wgsl[start..end];
+    assert!(
+        funcs.contains("best: f32"),
+        "no part takes the best distance"
+    );
+    insta::assert_snapshot!("culled_union.wgsl", funcs);
+}

@@ -35,6 +35,9 @@ pub const CULL_MIN: usize = 16;
 /// per level but fewer levels, and a tighter starting bound (the nearest part's far corner).
 pub const FAN_OUT: usize = 8;
 
+/// The fewest children a part is split down to (where the union has enough of them).
+pub const LEAF_MIN: usize = 4;
+
 /// Inside a culled union's parts the split goes on down to leaves of fewer than this many
 /// children: each level costs two box tests, and a leaf's children are all evaluated.
 pub const CULL_LEAF: usize = 8;
@@ -75,8 +78,11 @@ impl Builder<'_> {
         };
         // Up to FAN_OUT parts, by repeated median splits of the largest part along the
         // longest axis of its children's centres.
+        // Fewer where the parts would be smaller than LEAF_MIN: a part of one shape costs
+        // a box test and a call for what the shape alone costs.
+        let fan = FAN_OUT.min(bounded.len() / LEAF_MIN).max(2);
         let mut parts: Vec<Vec<(ShapeId, Aabb)>> = vec![bounded];
-        while parts.len() < FAN_OUT {
+        while parts.len() < fan {
             let Some((i, _)) = parts
                 .iter()
                 .enumerate()

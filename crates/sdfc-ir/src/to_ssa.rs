@@ -107,7 +107,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
 #[derive(Default)]
 struct Groups {
     funcs: Vec<Func>,
-    /// By children, material and whether the group is a culled half (which reads the
+    /// By children, material and whether the group is a culled part (which reads the
     /// caller's best distance).
     index: FxHashMap<(Vec<ShapeId>, u32, bool), u32>,
 }
@@ -127,7 +127,7 @@ struct Builder<'s> {
     info: &'s [NodeInfo],
     /// Whether large unions get bounding-box early-outs (`cull.rs`).
     cull: bool,
-    /// Whether the union about to be built is a culled half's body, called only where its
+    /// Whether the union about to be built is a culled part's body, called only where its
     /// box is nearer than the caller's best distance (`Op::Best`); `cull.rs` takes it.
     culled_body: bool,
     g: Graph,

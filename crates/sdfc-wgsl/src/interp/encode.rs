@@ -81,7 +81,7 @@ enum Val {
     Load(Opcode, u32),
     /// A constant matrix, by its columns' constant indices, loaded where it is used: a
     /// rotation shared by shapes far apart in a union would otherwise hold three registers
-    /// all the way between them (the 300-shape grid needed 81 registers so).
+    /// all the way between them.
     MatLoad([u32; 3]),
 }
 

@@ -11,6 +11,7 @@
 use sdfc_ir::eval::{eval_func, eval_func_work, Inputs};
 use sdfc_ir::ops::Op;
 use sdfc_ir::Program;
+use sdfc_reference::camera::Camera;
 use sdfc_tests::grid_scene;
 use sdfc_wgsl::{compile, Compiled, Options};
 
@@ -170,23 +171,13 @@ fn bound_shapes_culled_stays_between_plain_and_true() {
 fn grid_of_300_shapes_culled_does_a_fifth_of_the_work() {
     let (culled, plain) = both(&grid_scene(300));
     let (c, p) = (culled.program(), plain.program());
-    // grid_scene's camera: position [0, 20, 60], target the origin, 50 degrees.
-    let eye = [0.0, 20.0, 60.0];
-    let f = normalize([0.0, -20.0, -60.0]);
-    let r = normalize([-f[2], 0.0, f[0]]);
-    let u = [
-        r[1] * f[2] - r[2] * f[1],
-        r[2] * f[0] - r[0] * f[2],
-        r[0] * f[1] - r[1] * f[0],
-    ];
-    let half = (25.0f64).to_radians().tan();
+    let camera = Camera::of(&p.scene.camera);
+    let eye = camera.position;
     let (w, h) = (32, 24);
     let (mut wc, mut wp, mut steps) = (0usize, 0usize, 0usize);
     for j in 0..h {
         for i in 0..w {
-            let sx = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half * w as f64 / h as f64;
-            let sy = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * half;
-            let rd = normalize([0, 1, 2].map(|k| f[k] + sx * r[k] + sy * u[k]));
+            let rd = camera.ray(i as f64 + 0.5, j as f64 + 0.5, w as f64, h as f64);
             let mut t = 0.0;
             for _ in 0..256 {
                 let at = Inputs::at([0, 1, 2].map(|k| eye[k] + t * rd[k]));
@@ -209,9 +200,4 @@ fn grid_of_300_shapes_culled_does_a_fifth_of_the_work() {
         wc / steps
     );
     assert!(ratio >= 5.0, "culling saves only {ratio:.2}x of the work");
-}
-
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|x| x / l)
 }

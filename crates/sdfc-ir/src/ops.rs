@@ -58,6 +58,27 @@ pub enum Op {
     },
 }
 
+impl Op {
+    /// Whether the node is an input of its function (the point, the ray, a param, time, the
+    /// caller's best distance, a lambda's argument, a group call's result): its value comes
+    /// from outside the graph, not from its arguments, so no pass may fold or differentiate
+    /// it as arithmetic. Passes whose match has a catch-all arm ask this, so a new input is
+    /// added here once (the exhaustive matches of `eval::apply` and `diff::rules` list them,
+    /// and the compiler names any they miss).
+    pub fn is_input(self) -> bool {
+        matches!(
+            self,
+            Op::Point
+                | Op::Ray
+                | Op::Param(_)
+                | Op::Time
+                | Op::Best
+                | Op::LambdaArg { .. }
+                | Op::Call { .. }
+        )
+    }
+}
+
 /// The value of [`Op::Best`] where no caller bounds the group (the interpreter, gradient
 /// functions): finite, so that it stays an ordinary number, and above any real distance.
 pub const NO_BEST: f32 = 3.0e38;

@@ -116,22 +116,22 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += parts::helper(*h);
     }
     for g in groups {
-        s += "\n";
-        s += &emit_func(
+        push_func(
+            &mut s,
             g,
             groups,
             "The distance (and, when asked, the material) of one group of a large union.",
         );
     }
-    s += "\n";
-    s += &emit_func(
+    push_func(
+        &mut s,
         distance,
         groups,
         "The signed distance from p to the scene (the march loop calls only this).",
     );
     if let Some(f) = distance_ray {
-        s += "\n";
-        s += &emit_func(
+        push_func(
+            &mut s,
             f,
             groups,
             "The distance for marching along the unit direction rd: bound-only nodes divide by their slope along rd where it is below their bound in every direction.",
@@ -139,22 +139,22 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     if let (Some(g), Some(all)) = (gradient, &all_groups) {
         for f in &g.groups {
-            s += "\n";
-            s += &emit_func(
+            push_func(
+                &mut s,
                 f,
                 all,
                 "The distance of one group (w) and its gradient (xyz), for analytic normals.",
             );
         }
-        s += "\n";
-        s += &emit_func(
+        push_func(
+            &mut s,
             &g.func,
             all,
             "The distance from p to the scene (w) and its gradient (xyz): the forward-mode derivative of scene_distance, for analytic normals.",
         );
     }
-    s += "\n";
-    s += &emit_func(
+    push_func(
+        &mut s,
         material,
         groups,
         "The material at a surface point p (called once per hit, never while marching).",
@@ -176,4 +176,10 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += &marcher::emit(&p.scene, &view);
     }
     s
+}
+
+/// Appends one emitted function, after a blank line.
+fn push_func(s: &mut String, f: &Func, groups: &[Func], doc: &str) {
+    s.push('\n');
+    s.push_str(&emit_func(f, groups, doc));
 }

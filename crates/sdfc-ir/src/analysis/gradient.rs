@@ -228,13 +228,7 @@ pub fn bound(g: &Graph, root: NodeId, input: &dyn Fn(Op, usize) -> Option<Vec<Co
                     .map(|x| Comp::constant(*x as f64))
                     .collect(),
             },
-            op @ (Op::Point
-            | Op::Ray
-            | Op::Param(_)
-            | Op::Time
-            | Op::Best
-            | Op::LambdaArg { .. }
-            | Op::Call { .. }) => input(op, width).unwrap_or_else(|| vec![Comp::UNKNOWN; width]),
+            op if op.is_input() => input(op, width).unwrap_or_else(|| vec![Comp::UNKNOWN; width]),
             op => apply(op, &args, width),
         };
         vals[i] = if out.len() == width {

@@ -65,12 +65,7 @@ impl<'g> LambdaEval<'g> {
                     .get(k as usize)
                     .copied()
                     .unwrap_or_else(|| zero_of(node.ty)),
-                Op::Point
-                | Op::Ray
-                | Op::Time
-                | Op::Best
-                | Op::LambdaArg { .. }
-                | Op::Call { .. } => zero_of(node.ty),
+                op if op.is_input() => zero_of(node.ty),
                 op => {
                     a.clear();
                     a.extend(arg_pos.iter().map(|k| vals[*k]));

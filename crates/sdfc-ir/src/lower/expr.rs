@@ -479,13 +479,7 @@ impl<'a> Lowerer<'a> {
         let node = *self.g.node(n);
         let out = match node.op {
             Op::Const(c) => Some(c.to_value()),
-            Op::Point
-            | Op::Ray
-            | Op::Param(_)
-            | Op::Time
-            | Op::Best
-            | Op::LambdaArg { .. }
-            | Op::Call { .. } => None,
+            op if op.is_input() => None,
             op => {
                 let mut args = Vec::new();
                 for a in node.args() {

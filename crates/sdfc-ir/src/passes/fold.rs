@@ -15,17 +15,7 @@ pub const NON_FINITE: &str = "this constant expression is not finite (infinity o
 
 /// The folded value of `op` on `args` if every argument is a constant and `op` is pure.
 pub fn fold_one(g: &Graph, op: Op, ty: crate::types::Ty, args: &[NodeId]) -> Option<Value<f32>> {
-    if matches!(
-        op,
-        Op::Const(_)
-            | Op::Point
-            | Op::Ray
-            | Op::Param(_)
-            | Op::Time
-            | Op::Best
-            | Op::LambdaArg { .. }
-            | Op::Call { .. }
-    ) {
+    if matches!(op, Op::Const(_)) || op.is_input() {
         return None;
     }
     let vals: Option<Vec<Value<f32>>> = args.iter().map(|a| g.as_const(*a)).collect();
@@ -55,9 +45,7 @@ pub fn const_value(
     let node = *g.node(id);
     let out = match node.op {
         Op::Const(c) => Some(c.to_value()),
-        Op::Point | Op::Ray | Op::Param(_) | Op::Time | Op::LambdaArg { .. } | Op::Call { .. } => {
-            None
-        }
+        op if op.is_input() => None,
         op => {
             let mut args = Vec::new();
             let mut all = true;

@@ -25,7 +25,7 @@
 use super::{Builder, Mat};
 use crate::analysis::bounds::Aabb;
 use crate::graph::NodeId;
-use crate::ops::{Builtin, Helper, Op, NO_BEST};
+use crate::ops::{Builtin, Helper, Op};
 use crate::shape::{CombineOp, ShapeId};
 
 /// Unions of fewer bounded children than this are evaluated plainly: their box tests would
@@ -115,50 +115,46 @@ impl Builder<'_> {
         // be skipped even before any nearer one was evaluated; it never becomes the union's
         // value, since the part that attains it is evaluated (its own distance is no
         // greater) unless a nearer one was found first.
+        let mut fars = parts.iter().map(|(_, bx)| bx);
         let mut upper = if inherited {
             let best = self.g.op(Op::Best, &[]);
             self.g.set_hint(best, "best");
-            Some(best)
+            best
         } else {
-            None
+            // `parts` is never empty: the union has at least `min` bounded children.
+            let first = fars.next()?;
+            self.box_far(p, first)
         };
-        for (_, bx) in &parts {
+        for bx in fars {
             let f = self.box_far(p, bx);
-            upper = Some(match upper {
-                Some(u) => self.g.builtin(Builtin::Min, &[u, f]),
-                None => f,
-            });
+            upper = self.g.builtin(Builtin::Min, &[upper, f]);
         }
-        let upper = upper.unwrap_or_else(|| self.f(NO_BEST));
         let upper = self.hinted(upper, "upper");
-        let mut acc = Some(match acc {
+        let mut acc = match acc {
             Some((d, m)) => (self.g.builtin(Builtin::Min, &[d, upper]), m),
             None => (upper, self.materials.then(|| self.material_const(mat))),
-        });
+        };
         // Each part is called once, where its box is nearer than the best so far, and is
         // handed that best: its own parts are tested against it in turn.
         for (ids, bx) in &parts {
-            let best = acc.map(|(d, _)| d).unwrap_or(upper);
             // Farther from its box than the box's half-diagonal, a part contributes its
             // box's distance, a lower bound, instead of being evaluated.
             let reach = self.f(half_diagonal(bx) as f32);
-            let best = self.g.builtin(Builtin::Min, &[best, reach]);
-            let best = self.hinted(best, "cut");
-            let guard = Some((self.box_distance(p, bx), best));
+            let cut = self.g.builtin(Builtin::Min, &[acc.0, reach]);
+            let cut = self.hinted(cut, "cut");
+            let guard = Some((self.box_distance(p, bx), cut));
             let part = self.group_call(ids, p, mat, guard);
-            acc = Some(self.union_with(acc, part));
+            acc = self.union_with(acc, part);
         }
-        acc
+        Some(acc)
     }
 
     /// `min` of the running union and one more part, with the nearer material.
     fn union_with(
         &mut self,
-        acc: Option<(NodeId, Option<Mat>)>,
-        part: (NodeId, Option<Mat>),
+        (d, m): (NodeId, Option<Mat>),
+        (e, me): (NodeId, Option<Mat>),
     ) -> (NodeId, Option<Mat>) {
-        let Some((d, m)) = acc else { return part };
-        let (e, me) = part;
         let nd = self.g.builtin(Builtin::Min, &[d, e]);
         let nm = match (m, me) {
             (Some(ma), Some(mb)) => Some(self.blend(CombineOp::Union, d, e, ma, mb, None)),

@@ -125,27 +125,24 @@ impl Chunk {
 
     /// A value in a register: loads are emitted here, or reused while recent.
     fn materialize(&mut self, v: Val) -> Val {
-        if let Val::MatLoad(cols) = v {
-            return Val::Mat(
-                cols.map(|i| match self.materialize(Val::Load(Opcode::Const, i)) {
-                    Val::Reg(r) => r,
-                    // `materialize` of a load is always a register.
-                    _ => POINT,
-                }),
-            );
+        match v {
+            Val::Load(op, imm) => Val::Reg(self.load(op, imm)),
+            Val::MatLoad(cols) => Val::Mat(cols.map(|i| self.load(Opcode::Const, i))),
+            _ => v,
         }
-        let Val::Load(op, imm) = v else {
-            return v;
-        };
+    }
+
+    /// The register holding an input: its latest load while recent, else a new load.
+    fn load(&mut self, op: Opcode, imm: u32) -> u32 {
         if let Some(&(r, at)) = self.loads.get(&(op, imm)) {
             if self.ins.len() - at <= RELOAD_AFTER {
-                return Val::Reg(r);
+                return r;
             }
         }
         let at = self.ins.len();
         let r = self.emit(op, &[], imm);
         self.loads.insert((op, imm), (r, at));
-        Val::Reg(r)
+        r
     }
 
     fn emit(&mut self, op: Opcode, args: &[u32], imm: u32) -> u32 {

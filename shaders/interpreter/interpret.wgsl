@@ -101,6 +101,7 @@ fn interpret(range: vec2<u32>, p: vec3<f32>) -> Outputs {
             case OP_SD_TRI_PRISM: { r = vec4<f32>(sd_tri_prism(a.xyz, b.x, c.x)); }
             case OP_SD_PYRAMID: { r = vec4<f32>(sd_pyramid(a.xyz, b.x)); }
             case OP_SD_MANDELBULB: { r = vec4<f32>(sd_mandelbulb(a.xyz, b.x, c.x, d.x)); }
+            case OP_SD_MANDELBULB_INT: { r = vec4<f32>(sd_mandelbulb_int(a.xyz, b.x, c.x, d.x)); }
             case OP_SD_MENGER: { r = vec4<f32>(sd_menger(a.xyz, b.x)); }
             case OP_SD_SIERPINSKI: { r = vec4<f32>(sd_sierpinski(a.xyz, b.x)); }
             default: {}

@@ -129,6 +129,7 @@ fn every_primitive() {
         "sierpinski(iterations: 4)",
         "mandelbulb()",
         "mandelbulb(power: 5, iterations: 4)",
+        "mandelbulb(power: 6.5, iterations: 4)",
         "sdf(|p| length(p) - 0.7 + 0.1 * noise(p * 2), lipschitz: 1.5)",
         "sdf(|p| p.y - 0.3 * fbm(p, octaves: 4), lipschitz: 2)",
     ];

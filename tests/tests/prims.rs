@@ -661,6 +661,57 @@ fn mandelbulb_bounding_sphere_sign_and_finiteness() {
     }
 }
 
+/// Whole powers take the trigonometry-free helper; it computes the trigonometric formula's
+/// value (both in f64 here) at every point where that value is well conditioned: there the
+/// two agree to 1e-9 relative, where the conditioning (the most the value moves when p moves
+/// by 1e-12) is at most 1e-9 relative itself.
+#[test]
+fn the_whole_power_mandelbulb_is_the_trigonometric_one() {
+    use sdfc_ir::prim_dist::{mandelbulb, mandelbulb_int};
+    let mut rng = SplitMix(26);
+    for n in 2..=16u32 {
+        let bound = 2f64.powf(1.0 / (n as f64 - 1.0)).max(1.2); // the bounding radius
+        let (mut compared, mut worst) = (0, 0.0f64);
+        for _ in 0..POINTS {
+            let p = rng.point_in([-1.5; 3], [1.5; 3]);
+            let trig = mandelbulb(p, n as f64, 8.0, bound);
+            let moved = mandelbulb([p[0] + 1e-12, p[1], p[2]], n as f64, 8.0, bound);
+            if (moved - trig).abs() > 1e-9 * trig.abs() {
+                continue;
+            }
+            compared += 1;
+            let err = (mandelbulb_int(p, n, 8.0, bound) - trig).abs() / trig.abs().max(1e-9);
+            worst = worst.max(err);
+            assert!(err <= 1e-9, "power {n} at {p:?}: {err:e}");
+        }
+        assert!(compared > POINTS / 2, "power {n}: {compared} compared");
+        eprintln!("power {n}: {compared} points, worst {worst:.1e}");
+    }
+}
+
+#[test]
+fn a_whole_power_needs_no_trigonometry() {
+    for (scene, helper, not) in [
+        ("mandelbulb()", "sd_mandelbulb_int(", "sd_mandelbulb("),
+        (
+            "mandelbulb(power: 3)",
+            "sd_mandelbulb_int(",
+            "sd_mandelbulb(",
+        ),
+        (
+            "mandelbulb(power: 7.5)",
+            "sd_mandelbulb(",
+            "sd_mandelbulb_int(",
+        ),
+    ] {
+        let wgsl = compile(&format!("scene = {scene};\n"), &Options::default())
+            .unwrap()
+            .wgsl;
+        assert!(wgsl.contains(helper), "{scene}: no {helper}");
+        assert!(!wgsl.contains(not), "{scene}: {not} emitted");
+    }
+}
+
 // ---- argument checks ----
 
 fn error_of(scene: &str) -> String {

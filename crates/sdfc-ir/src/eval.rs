@@ -344,6 +344,7 @@ fn later_prim<T: Float>(h: Helper, a: &[Value<T>]) -> f64 {
         Helper::SdTriPrism => d::tri_prism(p, x(1), x(2)),
         Helper::SdPyramid => d::pyramid(p, x(1)),
         Helper::SdMandelbulb => d::mandelbulb(p, x(1), x(2), x(3)),
+        Helper::SdMandelbulbInt => d::mandelbulb_int(p, x(1) as u32, x(2), x(3)),
         Helper::SdMenger => d::menger(p, x(1)),
         Helper::SdSierpinski => d::sierpinski(p, x(1)),
         _ => 0.0,
@@ -384,6 +385,7 @@ fn helper<T: Float>(h: Helper, a: &[Value<T>]) -> T {
         | Helper::SdTriPrism
         | Helper::SdPyramid
         | Helper::SdMandelbulb
+        | Helper::SdMandelbulbInt
         | Helper::SdMenger
         | Helper::SdSierpinski => T::from_f64(later_prim(h, a)),
         Helper::Noise => crate::noise::noise(p),

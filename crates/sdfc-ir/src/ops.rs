@@ -218,6 +218,9 @@ pub enum Helper {
     /// `(p, power, iterations, bound)`: the mandelbulb's distance estimate; the set lies within
     /// radius `bound`, and beyond `1.25 bound` the distance to that sphere is returned.
     SdMandelbulb,
+    /// `(p, power, iterations, bound)`: `SdMandelbulb` for a whole power, computed without
+    /// trigonometry (`shaders/prims/sd_mandelbulb_int.wgsl`): the same value, less rounding.
+    SdMandelbulbInt,
     /// `(p, iterations)`: Menger sponge in the cube [-0.5, 0.5]^3.
     SdMenger,
     /// `(p, iterations)`: Sierpinski tetrahedron on alternate corners of [-0.5, 0.5]^3.
@@ -253,6 +256,7 @@ impl Helper {
         Helper::SdTriPrism,
         Helper::SdPyramid,
         Helper::SdMandelbulb,
+        Helper::SdMandelbulbInt,
         Helper::SdMenger,
         Helper::SdSierpinski,
         Helper::RotateX,
@@ -280,6 +284,7 @@ impl Helper {
             Helper::SdTriPrism => "sd_tri_prism",
             Helper::SdPyramid => "sd_pyramid",
             Helper::SdMandelbulb => "sd_mandelbulb",
+            Helper::SdMandelbulbInt => "sd_mandelbulb_int",
             Helper::SdMenger => "sd_menger",
             Helper::SdSierpinski => "sd_sierpinski",
             Helper::RotateX => "rotate_x",

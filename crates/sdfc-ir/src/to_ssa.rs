@@ -641,7 +641,20 @@ impl<'s> Builder<'s> {
                 self.op(Op::Helper(helper), &[p, a[0], h])
             }
             Prim::Pyramid => self.op(Op::Helper(Helper::SdPyramid), &[p, a[0]]),
-            Prim::Mandelbulb => self.op(Op::Helper(Helper::SdMandelbulb), &[p, a[0], a[1], a[2]]),
+            Prim::Mandelbulb => {
+                // The power is a constant (the lowering checks it); a whole one gets the
+                // trigonometry-free helper.
+                let whole = self
+                    .g
+                    .as_scalar_const(a[0])
+                    .is_some_and(|n| n.fract() == 0.0);
+                let helper = if whole {
+                    Helper::SdMandelbulbInt
+                } else {
+                    Helper::SdMandelbulb
+                };
+                self.op(Op::Helper(helper), &[p, a[0], a[1], a[2]])
+            }
             Prim::Menger => self.op(Op::Helper(Helper::SdMenger), &[p, a[0]]),
             Prim::Sierpinski => self.op(Op::Helper(Helper::SdSierpinski), &[p, a[0]]),
         }

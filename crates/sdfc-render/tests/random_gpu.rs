@@ -24,6 +24,7 @@ const TOL: Tolerance = Tolerance {
     rel: 1e-5,
     abs: 2e-6,
     skip_near: 0.0,
+    spread: 0.0,
 };
 
 proptest! {

@@ -19,6 +19,9 @@ pub fn helper(h: Helper) -> &'static str {
         Helper::SdTriPrism => include_str!("../../../shaders/prims/sd_tri_prism.wgsl"),
         Helper::SdPyramid => include_str!("../../../shaders/prims/sd_pyramid.wgsl"),
         Helper::SdMandelbulb => include_str!("../../../shaders/prims/sd_mandelbulb.wgsl"),
+        Helper::SdMandelbulbInt => {
+            include_str!("../../../shaders/prims/sd_mandelbulb_int.wgsl")
+        }
         Helper::SdMenger => include_str!("../../../shaders/prims/sd_menger.wgsl"),
         Helper::SdSierpinski => include_str!("../../../shaders/prims/sd_sierpinski.wgsl"),
         Helper::RotateX => include_str!("../../../shaders/transforms/rotate_x.wgsl"),

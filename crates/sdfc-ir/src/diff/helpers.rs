@@ -269,6 +269,11 @@ impl Differ {
                 let n = self.iterations(a[2])?;
                 self.mandelbulb(p, a[1], n, a[3])
             }
+            Helper::SdMandelbulbInt => {
+                let n = self.iterations(a[2])?;
+                let power = self.g.as_scalar_const(a[1])?;
+                self.mandelbulb_int(p, a[1], power as u32, n, a[3])
+            }
             // Noise has its gradient helper; rotations and that helper have rules (`rules.rs`).
             Helper::Noise
             | Helper::NoiseGradient
@@ -554,6 +559,95 @@ impl Differ {
             dr = self.n(Op::Select, &[dr, ndr, active]);
             r = self.n(Op::Select, &[r, nr, active]);
         }
+        self.mandelbulb_estimate(lp, r, dr, bound)
+    }
+
+    /// The whole-power mandelbulb as `sd_mandelbulb_int` computes it: the angles' multiples
+    /// and `r^power` by repeated squaring, unrolled (the identity factor it starts from left
+    /// out: multiplying by 1 + 0i changes nothing).
+    fn mandelbulb_int(
+        &mut self,
+        p: NodeId,
+        pw: NodeId,
+        power: u32,
+        iterations: u32,
+        bound: NodeId,
+    ) -> NodeId {
+        let lp = self.b(Builtin::Length, &[p]);
+        let (mut z, mut r) = (p, lp);
+        let mut dr = self.f(1.0);
+        let (zero, one, two, tiny) = (self.f(0.0), self.f(1.0), self.f(2.0), self.f(1e-20));
+        let minus_one = self.f(-1.0);
+        for _ in 0..iterations {
+            let active = self.n(Op::Le, &[r, two]);
+            let rs = self.b(Builtin::Max, &[r, tiny]);
+            let (zx, zy, zz) = (self.c(z, 0), self.c(z, 1), self.c(z, 2));
+            let xz = self.vec(&[zx, zz]);
+            let rho = self.b(Builtin::Length, &[xz]);
+            let ct = self.n(Op::Div, &[zy, rs]);
+            let ct = self.b(Builtin::Clamp, &[ct, minus_one, one]);
+            let st = self.n(Op::Div, &[rho, rs]);
+            let off_axis = self.n(Op::Gt, &[rho, zero]);
+            let cp = self.n(Op::Div, &[zx, rho]);
+            let cp = self.n(Op::Select, &[one, cp, off_axis]);
+            let sp = self.n(Op::Div, &[zz, rho]);
+            let sp = self.n(Op::Select, &[zero, sp, off_axis]);
+            let mut base = ([ct, st], [cp, sp], rs);
+            let mut acc: Option<([NodeId; 2], [NodeId; 2], NodeId)> = None;
+            let mut e = power;
+            while e > 0 {
+                if e & 1 == 1 {
+                    acc = Some(match acc {
+                        None => base,
+                        Some((t, f, q)) => (
+                            self.cmul(t, base.0),
+                            self.cmul(f, base.1),
+                            self.n(Op::Mul, &[q, base.2]),
+                        ),
+                    });
+                }
+                e >>= 1;
+                if e > 0 {
+                    base = (
+                        self.cmul(base.0, base.0),
+                        self.cmul(base.1, base.1),
+                        self.n(Op::Mul, &[base.2, base.2]),
+                    );
+                }
+            }
+            let Some((theta_n, phi_n, radius_n)) = acc else {
+                return lp; // power 0: the lowering allows 2 to 16
+            };
+            let rp1 = self.n(Op::Div, &[radius_n, rs]);
+            let ndr = self.n(Op::Mul, &[pw, rp1]);
+            let ndr = self.n(Op::Mul, &[ndr, dr]);
+            let ndr = self.n(Op::Add, &[ndr, one]);
+            let x = self.n(Op::Mul, &[theta_n[1], phi_n[0]]);
+            let w = self.n(Op::Mul, &[theta_n[1], phi_n[1]]);
+            let dir = self.vec(&[x, theta_n[0], w]);
+            let nz = self.n(Op::Mul, &[radius_n, dir]);
+            let nz = self.n(Op::Add, &[nz, p]);
+            let nr = self.b(Builtin::Length, &[nz]);
+            z = self.n(Op::Select, &[z, nz, active]);
+            dr = self.n(Op::Select, &[dr, ndr, active]);
+            r = self.n(Op::Select, &[r, nr, active]);
+        }
+        self.mandelbulb_estimate(lp, r, dr, bound)
+    }
+
+    /// The product of the complex numbers `a` and `b` (real, imaginary).
+    fn cmul(&mut self, a: [NodeId; 2], b: [NodeId; 2]) -> [NodeId; 2] {
+        let re1 = self.n(Op::Mul, &[a[0], b[0]]);
+        let re2 = self.n(Op::Mul, &[a[1], b[1]]);
+        let im1 = self.n(Op::Mul, &[a[0], b[1]]);
+        let im2 = self.n(Op::Mul, &[a[1], b[0]]);
+        [self.n(Op::Sub, &[re1, re2]), self.n(Op::Add, &[im1, im2])]
+    }
+
+    /// The mandelbulb's estimate `0.5 ln r r / dr` from the orbit's end, or the distance to
+    /// its bounding sphere where p is beyond 1.25 times its radius.
+    fn mandelbulb_estimate(&mut self, lp: NodeId, r: NodeId, dr: NodeId, bound: NodeId) -> NodeId {
+        let tiny = self.f(1e-20);
         let rf = self.b(Builtin::Max, &[r, tiny]);
         let l = self.b(Builtin::Log, &[rf]);
         let half = self.f(0.5);

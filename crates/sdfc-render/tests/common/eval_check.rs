@@ -18,13 +18,17 @@ pub fn points(seed: u64, n: usize, lo: [f32; 3], hi: [f32; 3]) -> Vec<[f32; 3]> 
         .collect()
 }
 
-/// How far apart the two sides may be: `|gpu - cpu| <= rel * |cpu| + abs`, on the points
-/// whose reference value is at least `skip_near` from zero (0: every point).
+/// How far apart the two sides may be: `|gpu - cpu| <= rel * |cpu| + abs + spread * s(p)`,
+/// on the points whose reference value is at least `skip_near` from zero (0: every point).
+/// `s(p)` is the conditioning of the value at p: the most the f64 value changes when one
+/// coordinate of p moves by one f32 ulp, the least error f32 inputs can carry. It matters
+/// for chaotic estimates (the mandelbulb) only; `spread` 0 leaves it out.
 #[derive(Clone, Copy)]
 pub struct Tolerance {
     pub rel: f64,
     pub abs: f64,
     pub skip_near: f64,
+    pub spread: f64,
 }
 
 /// The worst errors seen where every point passed.
@@ -62,16 +66,19 @@ pub fn agree(
     let mut worst_abs: f64 = 0.0;
     let mut failures = Vec::new();
     let mut compared = 0;
-    for (p, &g) in pts.iter().zip(&gpu) {
+    let cpu = |p: [f32; 3]| {
         let inputs = Inputs {
-            point: [p[0] as f64, p[1] as f64, p[2] as f64],
+            point: p.map(|c| c as f64),
             ray: [0.0; 3],
             params: param_values.clone(),
             time: time as f64,
         };
-        let c = eval_func(&program.distance, &program.groups, &inputs)[0]
+        eval_func(&program.distance, &program.groups, &inputs)[0]
             .scalar()
-            .unwrap_or(f64::NAN);
+            .unwrap_or(f64::NAN)
+    };
+    for (p, &g) in pts.iter().zip(&gpu) {
+        let c = cpu(*p);
         if c.abs() < tol.skip_near {
             continue;
         }
@@ -81,7 +88,12 @@ pub fn agree(
         if c.abs() > 1e-3 {
             worst_rel = worst_rel.max(err / c.abs());
         }
-        if err.is_nan() || err > tol.rel * c.abs() + tol.abs {
+        let spread = if tol.spread > 0.0 {
+            tol.spread * ulp_spread(p, c, &cpu)
+        } else {
+            0.0
+        };
+        if err.is_nan() || err > tol.rel * c.abs() + tol.abs + spread {
             failures.push((*p, g, c));
         }
     }
@@ -93,12 +105,27 @@ pub fn agree(
         })
     } else {
         Err(format!(
-            "{} of {compared} points off by more than {:e} relative + {:e}; first (point, gpu, \
-             cpu): {:?}",
+            "{} of {compared} points off by more than {:e} relative + {:e} (+ {} times the \
+             conditioning); first (point, gpu, cpu): {:?}",
             failures.len(),
             tol.rel,
             tol.abs,
+            tol.spread,
             &failures[..failures.len().min(5)]
         ))
     }
+}
+
+/// The most `f` (whose value at p is `c`) changes when one coordinate of p moves by one f32
+/// ulp either way.
+fn ulp_spread(p: &[f32; 3], c: f64, f: &impl Fn([f32; 3]) -> f64) -> f64 {
+    let mut worst: f64 = 0.0;
+    for k in 0..3 {
+        for next in [f32::next_up, f32::next_down] {
+            let mut q = *p;
+            q[k] = next(q[k]);
+            worst = worst.max((f(q) - c).abs());
+        }
+    }
+    worst
 }

@@ -120,6 +120,7 @@ opcodes! {
     SdMenger = 119, "OP_SD_MENGER", "sd_menger";
     SdSierpinski = 120, "OP_SD_SIERPINSKI", "sd_sierpinski";
     NoiseGradient = 121, "OP_NOISE_GRADIENT", "noise_gradient";
+    SdMandelbulbInt = 122, "OP_SD_MANDELBULB_INT", "sd_mandelbulb_int";
 }
 
 /// The opcode of a distance helper; `None` for a helper the interpreter does not know yet
@@ -147,6 +148,7 @@ pub fn helper_opcode(h: Helper) -> Option<Opcode> {
         Helper::SdTriPrism => Opcode::SdTriPrism,
         Helper::SdPyramid => Opcode::SdPyramid,
         Helper::SdMandelbulb => Opcode::SdMandelbulb,
+        Helper::SdMandelbulbInt => Opcode::SdMandelbulbInt,
         Helper::SdMenger => Opcode::SdMenger,
         Helper::SdSierpinski => Opcode::SdSierpinski,
         _ => return None,

@@ -24,12 +24,24 @@ fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
 // the surface (d <= 0) the surface is bracketed and Illinois-style false position narrows the
 // bracket. If the distance grows again while still positive, the ray passes the surface by
 // within the threshold without meeting it: that is no hit, and marching goes on (`hit`
-// false) from the furthest t up to which the samples' unbounding spheres leave the ray free
-// (a secant step may have jumped past a surface that the march must still find). A ray that
-// starts inside a shape (d0 <= 0 at t0 = 0) hits at t = 0; t never goes behind its origin.
-// A ray that comes within a hundredth of the threshold `eps` still hits, as before: in the
-// crevice where two surfaces touch, or where the distance's rounding noise is as large as
-// the threshold, passing by would crawl on in tiny steps until the step budget runs out.
+// false) from the last sample, or from the end of the stretch the samples' unbounding
+// spheres cover where that is further. A ray that starts inside a shape (d0 <= 0 at t0 = 0)
+// hits at t = 0; t never goes behind its origin.
+//
+// A secant step is a bet that the field is straight. It is not taken when its sample leaves
+// a gap longer than the threshold between its unbounding sphere and that of the sample it
+// started from, and its distance (in front or behind) is above a tenth of the one it started
+// from: the field was not straight, and a ridge may hide in the gap. The secant is then tried
+// at a quarter of that length (down to the plain step), and grows back fourfold with each
+// sample taken. Taking such samples skipped ridges of examples/terrain.sdf (9 holes, depth
+// errors up to 0.38 relative at 256x192). Shorter gaps are left: near a convex surface, at a
+// sphere's silhouette, every secant step lands short of it with such a gap, and refusing them
+// left depth errors of 2e-3 there.
+//
+// Out of iterations without a crossing, marching goes on from the last sample, unless the ray
+// came within a hundredth of the threshold `eps`: that still hits, as before. In the crevice
+// where two surfaces touch, or where the distance's rounding noise is as large as the
+// threshold, passing by would crawl on in tiny steps until the step budget runs out.
 fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32) -> Hit {
     var steps = steps0;
     if d0 <= 0.0 && t0 <= 0.0 {
@@ -47,13 +59,24 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
     var d = d0;
     var tp = t0;
     var dp = d0;
+    // The sample before (tp, dp), restored with it when a secant step is not taken.
+    var tq = t0;
+    var dq = d0;
     var reach = t0 + d0;
     var dmin = d0;
-    for (var i = 0u; i < 12u; i = i + 1u) {
-        if abs(d) <= 1e-7 * max(t, 1.0) {
-            break;
+    // The longest secant step, in plain steps.
+    var cap = 256.0;
+    for (var i = 0u; i < 20u; i = i + 1u) {
+        // Converged: d below 1e-7 of max(t, 1), and (from the second sample on) t within 1e-6
+        // of t of the surface by the slope of the last two samples: at a grazing angle a
+        // distance of 1e-7 t still left t off by 3.5e-6 t, and near the camera (tiny_huge,
+        // t = 0.03) a distance of 1e-7 left it off by 4e-5 t.
+        let near = abs(d) <= 1e-7 * max(t, 1.0);
+        if near && (i == 0u || abs(d * (t - tp)) <= 1e-6 * t * abs(d - dp)) {
+            return Hit(t, steps, true);
         }
         var next = t + d;
+        var secant_step = false;
         if bracketed && da > 0.0 && tb > ta {
             // False position inside the bracket; the midpoint if it degenerates.
             next = tb - db * (tb - ta) / (db - da);
@@ -64,18 +87,30 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
             let slope = d - dp;
             if slope >= 0.0 && dmin > 0.01 * eps {
                 // Closest approach passed without a crossing: no surface here.
-                return Hit(reach, steps, false);
+                return Hit(max(reach, t), steps, false);
             }
             let secant = t - d * (t - tp) / slope;
             if slope < 0.0 && secant > next {
-                next = min(secant, t + 256.0 * d);
+                next = min(secant, t + cap * d);
+                secant_step = next > t + d;
             }
         }
+        tq = tp;
+        dq = dp;
         tp = t;
         dp = d;
         t = max(next, 0.0);
         d = scene_distance(ro + rd * t);
         steps = steps + 1u;
+        if secant_step && t - abs(d) > tp + dp + eps && abs(d) > 0.1 * dp {
+            cap = 0.25 * (t - tp) / dp;
+            t = tp;
+            d = dp;
+            tp = tq;
+            dp = dq;
+            continue;
+        }
+        cap = min(4.0 * cap, 256.0);
         if d > 0.0 {
             if t - d <= reach {
                 reach = max(reach, t + d);
@@ -104,6 +139,11 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
             }
             bracketed = true;
         }
+    }
+    if !bracketed && dmin > 0.01 * eps {
+        // Out of iterations in front of the surface, never within a hundredth of the
+        // threshold: no crossing found yet, so marching goes on.
+        return Hit(max(reach, t), steps, false);
     }
     return Hit(t, steps, true);
 }

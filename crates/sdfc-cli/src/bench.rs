@@ -42,6 +42,11 @@ pub struct Args {
     /// for one step, through blue, red and yellow, to white at max_steps)
     #[arg(long, value_name = "OUT.png")]
     heatmap: Option<PathBuf>,
+    /// Also write a plot of time against error (PNG): one point per setting, the depth
+    /// error's 99.9th percentile on a log scale, the Pareto front joined, settings with
+    /// hit/miss mismatches in red
+    #[arg(long, value_name = "OUT.png")]
+    plot: Option<PathBuf>,
 }
 
 /// One setting of the sweep: its name and the settings it renders with.
@@ -237,6 +242,32 @@ pub fn run(a: Args) -> Outcome {
         a.runs
     );
     print!("{}", table(&title, &rows, a.markdown));
+    if let Some(path) = &a.plot {
+        // Named on the plot: the front, the scene's settings and the plain marcher (rows 0, 1).
+        let points: Vec<crate::plot::Point> = rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| crate::plot::Point {
+                name: &r.name,
+                time_ms: r.time.as_secs_f64() * 1e3,
+                error: r.metrics.depth_p999,
+                misses: r.metrics.mismatch_interior,
+                pareto: r.pareto,
+                labelled: r.pareto || i < 2,
+            })
+            .collect();
+        let caption = format!(
+            "{} at {}x{} on {}",
+            a.scene.display(),
+            a.size.0,
+            a.size.1,
+            renderer.adapter_description()
+        );
+        if let Err(e) = crate::plot::write(path, &caption, &points) {
+            eprintln!("error: {e}");
+            return Outcome::EnvError;
+        }
+    }
     Outcome::Ok
 }
 

@@ -6,6 +6,7 @@ mod check;
 mod compare;
 mod compile;
 mod eval;
+mod plot;
 mod render;
 mod report;
 

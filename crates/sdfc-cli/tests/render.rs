@@ -666,9 +666,10 @@ fn render_without_output_is_still_a_usage_error_without_compare() {
 }
 
 /// `sdfc bench`: the sweep's table (the scene's settings, the plain-marcher baseline, one
-/// change at a time), a Pareto front, and the step heat map at the image size.
+/// change at a time), a Pareto front, the step heat map at the image size, and the plot of
+/// time against error.
 #[test]
-fn bench_prints_the_sweep_and_writes_a_heat_map() {
+fn bench_prints_the_sweep_and_writes_a_heat_map_and_a_plot() {
     if !have_device() {
         return;
     }
@@ -678,6 +679,7 @@ fn bench_prints_the_sweep_and_writes_a_heat_map() {
         "render { max_steps: 128 }\nscene = sphere(1) | plane([0, 1, 0], 1);\n",
     );
     let heat = t.path("steps.png");
+    let plot = t.path("plot.png");
     let run = sdfc_in(
         &t.0,
         &[
@@ -689,6 +691,8 @@ fn bench_prints_the_sweep_and_writes_a_heat_map() {
             "1",
             "--heatmap",
             s(&heat),
+            "--plot",
+            s(&plot),
         ],
     );
     assert_eq!(run.code, 0, "{}", run.describe());
@@ -725,6 +729,18 @@ fn bench_prints_the_sweep_and_writes_a_heat_map() {
     }
     let img = read_png(&heat);
     assert_eq!(img.dimensions(), (16, 12));
+    // The plot: its fixed size, a white background, and something drawn on it.
+    let plot = read_png(&plot);
+    assert_eq!(plot.dimensions(), (1024, 640));
+    let white = plot
+        .pixels()
+        .filter(|p| p.0[..3] == [255, 255, 255])
+        .count();
+    let total = (1024 * 640) as usize;
+    assert!(
+        white > total / 2 && white < total,
+        "{white} white pixels of {total}"
+    );
 }
 
 #[test]

@@ -549,17 +549,37 @@ impl Differ {
                 self.b(Builtin::Cos, &[theta]),
             );
             let (sp, cp) = (self.b(Builtin::Sin, &[phi]), self.b(Builtin::Cos, &[phi]));
-            let x = self.n(Op::Mul, &[st, cp]);
-            let w = self.n(Op::Mul, &[st, sp]);
-            let dir = self.vec(&[x, ct, w]);
-            let nz = self.n(Op::Mul, &[zr, dir]);
-            let nz = self.n(Op::Add, &[nz, p]);
-            let nr = self.b(Builtin::Length, &[nz]);
-            z = self.n(Op::Select, &[z, nz, active]);
-            dr = self.n(Op::Select, &[dr, ndr, active]);
-            r = self.n(Op::Select, &[r, nr, active]);
+            (z, dr, r) =
+                self.mandelbulb_advance(p, zr, [ct, st], [cp, sp], ndr, active, (z, dr, r));
         }
         self.mandelbulb_estimate(lp, r, dr, bound)
+    }
+
+    /// The end of one orbit step: `z = zr (sin t cos f, cos t, sin t sin f) + p` from the
+    /// multiplied angles' (cosine, sine) pairs `t` and `f`, its length, and the new `dr`;
+    /// an orbit that had escaped (`active` false) keeps `(z, dr, r)` as they were.
+    #[allow(clippy::too_many_arguments)]
+    fn mandelbulb_advance(
+        &mut self,
+        p: NodeId,
+        zr: NodeId,
+        t: [NodeId; 2],
+        f: [NodeId; 2],
+        ndr: NodeId,
+        active: NodeId,
+        (z, dr, r): (NodeId, NodeId, NodeId),
+    ) -> (NodeId, NodeId, NodeId) {
+        let x = self.n(Op::Mul, &[t[1], f[0]]);
+        let w = self.n(Op::Mul, &[t[1], f[1]]);
+        let dir = self.vec(&[x, t[0], w]);
+        let nz = self.n(Op::Mul, &[zr, dir]);
+        let nz = self.n(Op::Add, &[nz, p]);
+        let nr = self.b(Builtin::Length, &[nz]);
+        (
+            self.n(Op::Select, &[z, nz, active]),
+            self.n(Op::Select, &[dr, ndr, active]),
+            self.n(Op::Select, &[r, nr, active]),
+        )
     }
 
     /// The whole-power mandelbulb as `sd_mandelbulb_int` computes it: the angles' multiples
@@ -622,15 +642,8 @@ impl Differ {
             let ndr = self.n(Op::Mul, &[pw, rp1]);
             let ndr = self.n(Op::Mul, &[ndr, dr]);
             let ndr = self.n(Op::Add, &[ndr, one]);
-            let x = self.n(Op::Mul, &[theta_n[1], phi_n[0]]);
-            let w = self.n(Op::Mul, &[theta_n[1], phi_n[1]]);
-            let dir = self.vec(&[x, theta_n[0], w]);
-            let nz = self.n(Op::Mul, &[radius_n, dir]);
-            let nz = self.n(Op::Add, &[nz, p]);
-            let nr = self.b(Builtin::Length, &[nz]);
-            z = self.n(Op::Select, &[z, nz, active]);
-            dr = self.n(Op::Select, &[dr, ndr, active]);
-            r = self.n(Op::Select, &[r, nr, active]);
+            (z, dr, r) =
+                self.mandelbulb_advance(p, radius_n, theta_n, phi_n, ndr, active, (z, dr, r));
         }
         self.mandelbulb_estimate(lp, r, dr, bound)
     }

@@ -2,7 +2,9 @@
 // A hit is refined to the surface (see `refine`); a ray that only passes a surface by within
 // the threshold marches on.
 fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
-    var t = 0.0;
+    // Only the stretch inside the scene's bounds can hold a surface.
+    let span = ray_span(ro, rd);
+    var t = span.x;
     var steps = 0u;
     // Whether the last sample was a surface passed by within the threshold.
     var passing = false;
@@ -15,7 +17,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     var jump = 0.0;
     var leap = false;
     loop {
-        if steps >= MAX_STEPS || t > MAX_DISTANCE {
+        if steps >= MAX_STEPS || t > span.y {
             break;
         }
         let d = scene_distance(ro + rd * t);

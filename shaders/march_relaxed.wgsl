@@ -2,7 +2,9 @@
 // distance while consecutive unbounding spheres overlap; when they stop overlapping the step
 // has overshot, so it is taken back and marching goes on plainly.
 fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
-    var t = 0.0;
+    // Only the stretch inside the scene's bounds can hold a surface.
+    let span = ray_span(ro, rd);
+    var t = span.x;
     var steps = 0u;
     var prev_radius = 0.0;
     var step = 0.0;
@@ -16,7 +18,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     // Whether the last step was taken back: the next one is plain.
     var retry = false;
     loop {
-        if steps >= MAX_STEPS || t > MAX_DISTANCE {
+        if steps >= MAX_STEPS || t > span.y {
             break;
         }
         let d = scene_distance(ro + rd * t);
@@ -74,8 +76,8 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 w = min(RELAXATION, max(1.0, 0.95 * 2.0 / (1.0 + slope)));
             }
             step = d * w;
-            if t + step > MAX_DISTANCE {
-                // A relaxed step out of range would end the march unchecked: the overshoot
+            if t + step > span.y {
+                // A relaxed step out of the span would end the march unchecked: the overshoot
                 // test needs the next sample (a 300-shape grid 50 from the camera missed
                 // every pixel at relaxation 1.9).
                 step = d;

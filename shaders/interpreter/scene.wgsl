@@ -77,3 +77,9 @@ fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {
     }
     return c;
 }
+
+// The stretch of the ray the marcher searches: all of it up to MAX_DISTANCE (the
+// specialised shader narrows it to the scene's bounds; the bytecode carries none).
+fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(0.0, MAX_DISTANCE);
+}

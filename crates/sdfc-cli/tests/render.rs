@@ -494,7 +494,10 @@ fn normal_and_steps_aovs() {
     assert_eq!(z[centre].to_bits(), n[3 * centre + 2].to_bits());
     let (shape, st) = read_npy(&steps);
     assert_eq!(shape, vec![25, 33]);
-    assert!(st.iter().all(|v| *v >= 1.0 && v.fract() == 0.0));
+    // Whole numbers; the centre's ray hits after at least one step (rays that miss the
+    // scene's bounds take none).
+    assert!(st.iter().all(|v| *v >= 0.0 && v.fract() == 0.0));
+    assert!(st[centre] >= 1.0);
 }
 
 #[test]

@@ -15,6 +15,9 @@ pub struct View<'a> {
     /// Whether the scene has `scene_distance_ray`, which the march and the hit refinement
     /// then call instead of `scene_distance` (shadows, AO and normals keep the latter).
     pub along_ray: bool,
+    /// The scene's bounds (the analysis's box of the root, world coordinates; infinite on
+    /// unbounded axes), from which `ray_span` starts and ends each march.
+    pub bounds: ([f64; 3], [f64; 3]),
 }
 
 /// The text of a marcher part, calling `scene_distance_ray` along the ray when the scene
@@ -36,6 +39,8 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += &constants(scene, view.origin);
     s += "\n";
     s += &along_ray(parts::HIT, view.along_ray);
+    s += "\n";
+    s += &ray_span(view);
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
@@ -177,6 +182,73 @@ fn constants(scene: &Scene, origin: [f32; 3]) -> String {
         let _ = writeln!(s, "const REFLECTIONS: u32 = {}u;", r.reflections);
     }
     s
+}
+
+/// `ray_span(ro, rd)`: the stretch of the ray, from 0 to MAX_DISTANCE, inside the scene's
+/// bounds on the axes where they are finite (each padded by a thousandth of the box's size,
+/// and at least 1e-3, so that f32 rounding of the slab test never cuts a surface off). No
+/// surface lies before or after it, so the marchers start and end there, and a ray that
+/// misses the box takes no step.
+fn ray_span(view: &View) -> String {
+    let (lo, hi) = view.bounds;
+    let finite: Vec<usize> = (0..3)
+        .filter(|&k| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k])
+        .collect();
+    let mut s = String::from(
+        "// The stretch of the ray inside the scene's bounds (padded): marching starts and ends\n\
+         // there, and a ray that misses them takes no step.\n\
+         fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {\n",
+    );
+    if finite.is_empty() {
+        s += "    return vec2<f32>(0.0, MAX_DISTANCE);\n}\n";
+        return s;
+    }
+    let size = finite.iter().map(|&k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+    let pad = (1e-3 * size).max(1e-3);
+    s += "    var t0 = 0.0;\n    var t1 = MAX_DISTANCE;\n";
+    for k in finite {
+        let c = ["x", "y", "z"][k];
+        // In shader coordinates (camera-relative where the view is), in f64, rounded outwards.
+        let a = round_down(lo[k] - view.origin[k] as f64 - pad);
+        let b = round_up(hi[k] - view.origin[k] as f64 + pad);
+        let _ = write!(
+            s,
+            "    if abs(rd.{c}) > 1e-30 {{\n\
+             \x20       let a = ({} - ro.{c}) / rd.{c};\n\
+             \x20       let b = ({} - ro.{c}) / rd.{c};\n\
+             \x20       t0 = max(t0, min(a, b));\n\
+             \x20       t1 = min(t1, max(a, b));\n\
+             \x20   }} else if ro.{c} < {} || ro.{c} > {} {{\n\
+             \x20       t1 = -1.0;\n\
+             \x20   }}\n",
+            float(a),
+            float(b),
+            float(a),
+            float(b),
+        );
+    }
+    s += "    return vec2<f32>(t0, t1);\n}\n";
+    s
+}
+
+/// The largest f32 at or below `x`.
+fn round_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f as f64 > x {
+        f.next_down()
+    } else {
+        f
+    }
+}
+
+/// The smallest f32 at or above `x`.
+fn round_up(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) < x {
+        f.next_up()
+    } else {
+        f
+    }
 }
 
 fn surface_epsilon(scene: &Scene) -> String {

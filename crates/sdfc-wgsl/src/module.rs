@@ -161,16 +161,25 @@ pub fn emit(p: &Program, lib: bool) -> String {
     );
     if !lib {
         s += "\n";
+        let bounds = p
+            .analysis
+            .nodes
+            .get(p.scene.root.index())
+            .map_or(([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]), |n| {
+                (n.bounds.lo, n.bounds.hi)
+            });
         let view = match relative {
             Some(r) => marcher::View {
                 origin: r.origin,
                 lights: &r.lights,
                 along_ray: distance_ray.is_some(),
+                bounds,
             },
             None => marcher::View {
                 origin: [0.0; 3],
                 lights: &p.scene.lights,
                 along_ray: distance_ray.is_some(),
+                bounds,
             },
         };
         s += &marcher::emit(&p.scene, &view);

@@ -1,0 +1,51 @@
+//! `ray_span` in the emitted marcher: a slab test against the scene's bounds (the analysis's
+//! box of the root, padded) on the axes where they are finite, and the whole ray otherwise;
+//! bounds that depend on time or a param are not taken as finite.
+
+use sdfc_wgsl::{compile, Options};
+
+fn ray_span_of(src: &str) -> String {
+    let wgsl = compile(src, &Options::default())
+        .unwrap_or_else(|e| panic!("{src}: {e:?}"))
+        .wgsl;
+    let start = wgsl.find("fn ray_span(").expect("ray_span emitted");
+    let end = start + wgsl[start..].find("\n}\n").expect("end of ray_span");
+    wgsl[start..end].to_string()
+}
+
+const WHOLE_RAY: &str = "return vec2<f32>(0.0, MAX_DISTANCE);";
+
+#[test]
+fn a_bounded_scene_gets_a_slab_per_axis() {
+    let f = ray_span_of("scene = sphere(1) | box([1, 2, 3]).translate([4, 0, 0]);\n");
+    for axis in ["rd.x", "rd.y", "rd.z"] {
+        assert!(f.contains(&format!("abs({axis}) > 1e-30")), "{f}");
+    }
+    // x from -1 to 4.5, padded by a thousandth of the largest size (5.5) and rounded out.
+    assert!(f.contains("(-1.0055001 - ro.x)"), "{f}");
+    assert!(f.contains("(4.5055003 - ro.x)"), "{f}");
+    assert!(!f.contains(WHOLE_RAY), "{f}");
+}
+
+#[test]
+fn an_unbounded_axis_has_no_slab() {
+    // Spheres repeated along x: bounded in y and z only.
+    let f = ray_span_of("scene = sphere(0.5).repeat([2, 0, 0]);\n");
+    assert!(!f.contains("rd.x"), "{f}");
+    assert!(
+        f.contains("abs(rd.y) > 1e-30") && f.contains("abs(rd.z) > 1e-30"),
+        "{f}"
+    );
+}
+
+#[test]
+fn unbounded_and_moving_scenes_search_the_whole_ray() {
+    for src in [
+        "scene = sphere(1) | plane([0, 1, 0], 1);\n",
+        "param r = 1;\nscene = sphere(r);\n",
+        "scene = sphere(1).translate([sin(time) * 3, 0, 0]);\n",
+    ] {
+        let f = ray_span_of(src);
+        assert!(f.contains(WHOLE_RAY), "{src}: {f}");
+    }
+}

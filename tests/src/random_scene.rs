@@ -66,6 +66,17 @@ pub fn shape() -> impl Strategy<Value = String> {
     shape_of(prop_oneof![4 => primitive(), 1 => mandelbulb()].boxed())
 }
 
+/// A mandelbulb of a whole power, which the trigonometry-free helper computes: on the device
+/// it agrees with f64 to 1e-5 beyond its conditioning (`prims_gpu.rs`).
+pub fn whole_power_mandelbulb() -> impl Strategy<Value = String> {
+    (2u32..=12, 1u32..10).prop_map(|(n, i)| format!("mandelbulb(power: {n}, iterations: {i})"))
+}
+
+/// Like [`shape`], with whole-power mandelbulbs among the primitives.
+pub fn shape_with_whole_power_mandelbulbs() -> impl Strategy<Value = String> {
+    shape_of(prop_oneof![3 => primitive(), 1 => whole_power_mandelbulb()].boxed())
+}
+
 /// Like [`shape`], without the mandelbulb: for comparisons of f32 with f64 at 1e-5.
 pub fn shape_without_mandelbulb() -> impl Strategy<Value = String> {
     shape_of(primitive().boxed())

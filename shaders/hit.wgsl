@@ -59,9 +59,6 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
     var d = d0;
     var tp = t0;
     var dp = d0;
-    // The sample before (tp, dp), restored with it when a secant step is not taken.
-    var tq = t0;
-    var dq = d0;
     var reach = t0 + d0;
     var dmin = d0;
     // The longest secant step, in plain steps.
@@ -95,8 +92,9 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
                 secant_step = next > t + d;
             }
         }
-        tq = tp;
-        dq = dp;
+        // The sample before (tp, dp), put back with it if this step is not taken.
+        let tq = tp;
+        let dq = dp;
         tp = t;
         dp = d;
         t = max(next, 0.0);

@@ -15,6 +15,7 @@ pub mod noise;
 pub mod ops;
 pub mod passes;
 pub mod prim_dist;
+pub mod rounding;
 pub mod scene;
 pub mod shape;
 pub mod to_ssa;

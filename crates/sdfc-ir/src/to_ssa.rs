@@ -16,6 +16,8 @@ use crate::value::Value;
 mod cull;
 mod warp;
 
+use crate::rounding::f32_up;
+
 /// The material of a point: `albedo` (rgb, reflectivity) and `phong` (ambient, diffuse,
 /// specular, shininess), both vec4.
 type Mat = [NodeId; 2];
@@ -403,7 +405,7 @@ impl<'s> Builder<'s> {
                     .filter(|_| !self.values_matter && self.divides(l));
                 let d = match reach {
                     Some(reach) => {
-                        let reach = self.f(warp::f32_up(reach));
+                        let reach = self.f(f32_up(reach));
                         let far = self.op(Op::Sub, &[base, reach]);
                         self.g.builtin(Builtin::Max, &[d, far])
                     }
@@ -465,7 +467,7 @@ impl<'s> Builder<'s> {
                 let d = match top {
                     Some(top) => {
                         let d = self.hinted(d, "d");
-                        let top = self.f(warp::f32_up(top));
+                        let top = self.f(f32_up(top));
                         let far = self.op(Op::Sub, &[y, top]);
                         self.g.builtin(Builtin::Max, &[d, far])
                     }
@@ -508,7 +510,7 @@ impl<'s> Builder<'s> {
             return l;
         };
         let v = if heightfield { [v[0], 1.0, v[2]] } else { v };
-        let v = self.g.vec3(v.map(warp::f32_up));
+        let v = self.g.vec3(v.map(f32_up));
         let a = self.g.builtin(Builtin::Abs, &[u]);
         let slope = self.g.builtin(Builtin::Dot, &[v, a]);
         let slope = if heightfield {

@@ -4,6 +4,7 @@
 
 use crate::literal::{float, vec3};
 use crate::parts;
+use sdfc_ir::rounding::{f32_down, f32_up};
 use sdfc_ir::scene::{Epsilon, Light, LightKind, Normals, Scene, Shadows};
 use std::fmt::Write;
 
@@ -209,8 +210,8 @@ fn ray_span(view: &View) -> String {
     for k in finite {
         let c = ["x", "y", "z"][k];
         // In shader coordinates (camera-relative where the view is), in f64, rounded outwards.
-        let a = round_down(lo[k] - view.origin[k] as f64 - pad);
-        let b = round_up(hi[k] - view.origin[k] as f64 + pad);
+        let a = f32_down(lo[k] - view.origin[k] as f64 - pad);
+        let b = f32_up(hi[k] - view.origin[k] as f64 + pad);
         let _ = write!(
             s,
             "    if abs(rd.{c}) > 1e-30 {{\n\
@@ -229,26 +230,6 @@ fn ray_span(view: &View) -> String {
     }
     s += "    return vec2<f32>(t0, t1);\n}\n";
     s
-}
-
-/// The largest f32 at or below `x`.
-fn round_down(x: f64) -> f32 {
-    let f = x as f32;
-    if f as f64 > x {
-        f.next_down()
-    } else {
-        f
-    }
-}
-
-/// The smallest f32 at or above `x`.
-fn round_up(x: f64) -> f32 {
-    let f = x as f32;
-    if (f as f64) < x {
-        f.next_up()
-    } else {
-        f
-    }
 }
 
 fn surface_epsilon(scene: &Scene) -> String {

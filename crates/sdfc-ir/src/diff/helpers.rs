@@ -272,7 +272,7 @@ impl Differ {
             Helper::SdMandelbulbInt => {
                 let n = self.iterations(a[2])?;
                 let power = self.g.as_scalar_const(a[1])?;
-                self.mandelbulb_int(p, a[1], power as u32, n, a[3])
+                self.mandelbulb_int(p, a[1], power as u32, n, a[3])?
             }
             // Noise has its gradient helper; rotations and that helper have rules (`rules.rs`).
             Helper::Noise
@@ -592,7 +592,7 @@ impl Differ {
         power: u32,
         iterations: u32,
         bound: NodeId,
-    ) -> NodeId {
+    ) -> Option<NodeId> {
         let lp = self.b(Builtin::Length, &[p]);
         let (mut z, mut r) = (p, lp);
         let mut dr = self.f(1.0);
@@ -635,9 +635,8 @@ impl Differ {
                     );
                 }
             }
-            let Some((theta_n, phi_n, radius_n)) = acc else {
-                return lp; // power 0: the lowering allows 2 to 16
-            };
+            // None for power 0 only, which the lowering never lets through (2 to 16).
+            let (theta_n, phi_n, radius_n) = acc?;
             let rp1 = self.n(Op::Div, &[radius_n, rs]);
             let ndr = self.n(Op::Mul, &[pw, rp1]);
             let ndr = self.n(Op::Mul, &[ndr, dr]);
@@ -645,7 +644,7 @@ impl Differ {
             (z, dr, r) =
                 self.mandelbulb_advance(p, radius_n, theta_n, phi_n, ndr, active, (z, dr, r));
         }
-        self.mandelbulb_estimate(lp, r, dr, bound)
+        Some(self.mandelbulb_estimate(lp, r, dr, bound))
     }
 
     /// The product of the complex numbers `a` and `b` (real, imaginary).

@@ -6,18 +6,9 @@ use super::{Builder, Mat};
 use crate::graph::NodeId;
 use crate::ops::{Builtin, Helper, Op, Swizzle};
 use crate::passes::fold::const_value;
+use crate::rounding::f32_up;
 use crate::shape::{Declared, ShapeId, WarpMap};
 use crate::value::Value;
-
-/// The smallest f32 at least `x` (a divisor rounded down would step too far).
-pub fn f32_up(x: f64) -> f32 {
-    let f = x as f32;
-    if (f as f64) < x && f.is_finite() {
-        f.next_up()
-    } else {
-        f
-    }
-}
 
 impl Builder<'_> {
     fn swz(&mut self, v: NodeId, idx: &[u8]) -> NodeId {

@@ -444,15 +444,15 @@ impl<'p> Lower<'p> {
 
     fn number(&self, pair: Pair<'_, Rule>) -> R<Node> {
         let span = self.span(&pair);
-        let mut body = "";
-        let mut suffix = None;
-        for p in pair.into_inner() {
-            match p.as_rule() {
-                Rule::num_body => body = p.as_str(),
-                Rule::num_suffix => suffix = Some((p.as_str(), self.span(&p))),
-                _ => {}
-            }
-        }
+        let text = pair.as_str();
+        let split = body_len(text);
+        let body = &text[..split];
+        let suffix = (split < text.len()).then(|| {
+            (
+                &text[split..],
+                Span::new(span.start as usize + split, span.end as usize),
+            )
+        });
         let value = match suffix {
             None => body.parse::<f32>().ok(),
             // Degrees: read in f64, convert in f64, round once to f32.
@@ -485,6 +485,35 @@ impl<'p> Lower<'p> {
         }
         self.node(ExprKind::Number(value), span, 1, span)
     }
+}
+
+/// The length of a number token's digits (`num_body` in the grammar): the token is one atomic
+/// pair, so that each number costs pest one pair instead of three, and its suffix (any word
+/// glued on, as in `30deg`) is split off here. An `e` is part of the body only when digits
+/// follow it (after an optional sign), as in the grammar; otherwise it starts the suffix.
+fn body_len(text: &str) -> usize {
+    let b = text.as_bytes();
+    let digits = |mut i: usize| {
+        while b.get(i).is_some_and(u8::is_ascii_digit) {
+            i += 1;
+        }
+        i
+    };
+    let mut i = digits(0);
+    if b.get(i) == Some(&b'.') {
+        i = digits(i + 1);
+    }
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        let mut j = i + 1;
+        if matches!(b.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let end = digits(j);
+        if end > j {
+            i = end;
+        }
+    }
+    i
 }
 
 fn binary_op(rule: Rule) -> Option<BinaryOp> {
@@ -531,4 +560,33 @@ fn is_punct(rule: Rule) -> bool {
             | Rule::lbrace
             | Rule::rbrace
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::body_len;
+
+    /// The split of a number token into digits and suffix agrees with the grammar's
+    /// `num_body`: an exponent needs digits, and a dot is the body's only where the grammar
+    /// took it.
+    #[test]
+    fn number_tokens_split_where_the_digits_end() {
+        for (token, body) in [
+            ("1", "1"),
+            ("1.5", "1.5"),
+            (".5", ".5"),
+            ("2.", "2."),
+            ("1e-4", "1e-4"),
+            ("3.2E+2", "3.2E+2"),
+            ("30deg", "30"),
+            ("1.5e3deg", "1.5e3"),
+            ("1e", "1"),
+            ("1e+", "1"),
+            ("2ex", "2"),
+            ("7rad", "7"),
+            ("1E5_x", "1E5"),
+        ] {
+            assert_eq!(&token[..body_len(token)], body, "{token}");
+        }
+    }
 }

@@ -106,7 +106,6 @@ fn expected_of(rule: Rule) -> Expected {
         Rule::rbrace => Token("}"),
         Rule::dot
         | Rule::postfix
-        | Rule::num_suffix
         | Rule::op_or
         | Rule::op_and
         | Rule::op_le
@@ -120,7 +119,8 @@ fn expected_of(rule: Rule) -> Expected {
         | Rule::op_mul
         | Rule::op_div
         | Rule::op_rem
-        | Rule::infix => Operator,
+        | Rule::infix
+        | Rule::infix_start => Operator,
         Rule::block => Token("{"),
         Rule::args => Arg,
         // Silent lexical rules: never reported by pest.

@@ -1,6 +1,7 @@
 //! Emits one SSA function as a WGSL function: a `let` per computed node, named by its role
 //! (`q` points, `d` distances, `h` blend weights, `m` materials), constants and inputs inline.
 
+use crate::consts::Consts;
 use crate::literal;
 use sdfc_ir::func::{Func, FuncKind};
 use sdfc_ir::graph::{Graph, NodeId};
@@ -27,7 +28,7 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
 /// its distance needs are emitted first, the rest (material selects and blends) inside
 /// `if with_material { ... }`, so a caller that wants the distance alone (the march loop)
 /// skips them. A call is spelled with `false` where only its distance is used.
-pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
+pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
     let g = &f.graph;
     // Nodes in the unconditional part: everything for a plain function, the distance's
     // dependencies for a group.
@@ -118,7 +119,7 @@ pub fn emit(f: &Func, groups: &[Func], doc: &str) -> String {
             .iter()
             .map(|a| text[a.index()].as_str())
             .collect();
-        let (expr, inline) = expression(g, id, &args);
+        let (expr, inline) = expression(g, id, &args, consts);
         if inline {
             text[id.index()] = expr;
             continue;
@@ -198,11 +199,17 @@ fn operand(s: &str) -> String {
 }
 
 /// The WGSL expression of a node, and whether it is simple enough to inline at each use.
-fn expression(g: &Graph, id: NodeId, a: &[&str]) -> (String, bool) {
+fn expression(g: &Graph, id: NodeId, a: &[&str], consts: &Consts) -> (String, bool) {
     let node = g.node(id);
     let bin = |sym: &str| format!("{} {sym} {}", operand(a[0]), operand(a[1]));
     match node.op {
-        Op::Const(c) => (literal::value(&c.to_value()), true),
+        Op::Const(c) => {
+            let v = c.to_value();
+            let text = consts
+                .name(&v)
+                .map_or_else(|| literal::value(&v), str::to_string);
+            (text, true)
+        }
         Op::Point => ("p".into(), true),
         Op::Ray => ("rd".into(), true),
         Op::Time => ("scene_time".into(), true),

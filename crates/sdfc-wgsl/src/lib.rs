@@ -30,6 +30,7 @@
 //! `var<private> scene_params: array<vec4<f32>, N>` (initialised to the defaults) are inputs the
 //! caller may set. With an import path, a naga_oil `#define_import_path` line comes first.
 
+pub mod consts;
 pub mod eval_shader;
 pub mod func;
 pub mod interp;

@@ -1,6 +1,7 @@
 //! Assembles the WGSL module: interface, scene functions, the helpers they call, and (for a
 //! full shader) the marcher.
 
+use crate::consts::Consts;
 use crate::func::emit as emit_func;
 use crate::literal;
 use crate::{marcher, parts};
@@ -99,6 +100,11 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += "\n// The distance and material of a group of shapes.\n";
         s += "struct SceneSample {\n    distance: f32,\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
     }
+    let consts = Consts::of(&p.scene.materials, &funcs);
+    if !consts.is_empty() {
+        s += "\n// The scene's materials, by name.\n";
+        s += &consts.declarations();
+    }
     let mut helpers = BTreeSet::new();
     for f in &funcs {
         for (_, n) in f.graph.nodes() {
@@ -118,6 +124,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     for g in groups {
         push_func(
             &mut s,
+            &consts,
             g,
             groups,
             "The distance (and, when asked, the material) of one group of a large union.",
@@ -125,6 +132,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     push_func(
         &mut s,
+        &consts,
         distance,
         groups,
         "The signed distance from p to the scene (the march loop calls only this).",
@@ -132,6 +140,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     if let Some(f) = distance_ray {
         push_func(
             &mut s,
+            &consts,
             f,
             groups,
             "The distance for marching along the unit direction rd: bound-only nodes divide by their slope along rd where it is below their bound in every direction.",
@@ -141,6 +150,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
         for f in &g.groups {
             push_func(
                 &mut s,
+                &consts,
                 f,
                 all,
                 "The distance of one group (w) and its gradient (xyz), for analytic normals.",
@@ -148,6 +158,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
         }
         push_func(
             &mut s,
+            &consts,
             &g.func,
             all,
             "The distance from p to the scene (w) and its gradient (xyz): the forward-mode derivative of scene_distance, for analytic normals.",
@@ -155,6 +166,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     push_func(
         &mut s,
+        &consts,
         material,
         groups,
         "The material at a surface point p (called once per hit, never while marching).",
@@ -188,7 +200,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
 }
 
 /// Appends one emitted function, after a blank line.
-fn push_func(s: &mut String, f: &Func, groups: &[Func], doc: &str) {
+fn push_func(s: &mut String, consts: &Consts, f: &Func, groups: &[Func], doc: &str) {
     s.push('\n');
-    s.push_str(&emit_func(f, groups, doc));
+    s.push_str(&emit_func(f, groups, consts, doc));
 }

@@ -56,13 +56,19 @@ fn normal_step(p: vec3<f32>, t: f32, pixel: f32) -> f32 {
 // half the step, far below the surface threshold. A normal facing away from the ray `rd`
 // comes from a surface of no thickness (the distance is |y| across it, so the differences
 // cancel): it is taken again a few steps back along the ray, on the side the ray comes from.
+// Two tries in a loop: one call of scene_normal to inline, not two.
 fn surface_normal(p: vec3<f32>, rd: vec3<f32>, t: f32, pixel: f32) -> vec3<f32> {
     let h = exp2(ceil(log2(normal_step(p, t, pixel))));
-    let n = scene_normal(round(p / h) * h, h);
-    if dot(n, rd) <= 0.0 {
-        return n;
+    var q = p;
+    var n = vec3<f32>(0.0);
+    for (var attempt = 0u; attempt < 2u; attempt = attempt + 1u) {
+        n = scene_normal(round(q / h) * h, h);
+        if dot(n, rd) <= 0.0 {
+            break;
+        }
+        q = p - 4.0 * h * rd;
     }
-    return scene_normal(round((p - 4.0 * h * rd) / h) * h, h);
+    return n;
 }
 
 // How far a secondary ray (shadow, reflection) starts off the surface: far enough that

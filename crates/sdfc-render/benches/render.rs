@@ -1,30 +1,45 @@
-//! Render benchmark: three scenes of growing cost (one sphere, the spec's section 10 scene,
-//! a 300-shape flat union) at 160x120. Before divan's wall-clock table it prints, per scene,
+//! Render benchmark: the scene suite but its 5 000-shape union (one sphere, the spec's section
+//! 10 scene, a 300-shape flat union, the terrain, the fractals) at 160x120, or at the size in
+//! `SDFC_BENCH_SIZE` (`WxH`). Before divan's wall-clock table it prints, per scene,
 //! the adapter, the device time of the compute pass (timestamp queries, mean of several
 //! frames) and the mean march steps per pixel, over all pixels and over the pixels whose ray
 //! hits (from the steps AOV); then the same frames from the interpreted marcher
 //! (`render_interpreted`, bytecode encoded once outside the timing, as a live editor would
 //! after an edit) and its time as a ratio to the specialised shader's, measured in this run.
 //!
-//! `cargo bench -p sdfc-render --bench render`
+//! `cargo bench -p sdfc-render --bench render`; `-- none` skips divan's table after it.
+//! The 5 000-shape union is not here: lavapipe's build of its specialised pipeline alone takes
+//! longer than the rest of the run (docs/performance.md).
 
 use sdfc_render::{RenderOptions, Renderer};
 use std::sync::OnceLock;
 use std::time::Duration;
 
-const WIDTH: u32 = 160;
-const HEIGHT: u32 = 120;
-const SCENES: [&str; 3] = ["sphere", "spec_section10", "grid_300"];
+const SCENES: [&str; 5] = [
+    "sphere",
+    "spec_section10",
+    "grid_300",
+    "terrain",
+    "fractals",
+];
+
+/// The image size: `SDFC_BENCH_SIZE=WxH`, else 160x120.
+fn size() -> (u32, u32) {
+    std::env::var("SDFC_BENCH_SIZE")
+        .ok()
+        .and_then(|s| {
+            let (w, h) = s.split_once('x')?;
+            Some((w.parse().ok()?, h.parse().ok()?))
+        })
+        .unwrap_or((160, 120))
+}
 
 fn source(name: &str) -> String {
     match name {
         "sphere" => "scene = sphere(1);\n".to_string(),
-        "spec_section10" => {
-            let path = concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../../examples/spec_section10.sdf"
-            );
-            std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"))
+        "spec_section10" | "terrain" | "fractals" => {
+            let path = format!("{}/../../examples/{name}.sdf", env!("CARGO_MANIFEST_DIR"));
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
         }
         "grid_300" => sdfc_tests::grid_scene(300),
         _ => unreachable!(),
@@ -42,21 +57,31 @@ fn compiled(name: &str) -> sdfc_wgsl::Compiled {
 }
 
 fn options() -> RenderOptions {
-    RenderOptions::sized(WIDTH, HEIGHT)
+    let (w, h) = size();
+    RenderOptions::sized(w, h)
 }
 
 fn main() {
     let r = renderer();
     println!("adapter: {}", r.adapter_description());
-    println!("image: {WIDTH}x{HEIGHT}");
+    let (w, h) = size();
+    println!("image: {w}x{h}");
     println!(
-        "{:<16} {:>14} {:>14} {:>12} {:>16} {:>10}",
-        "scene", "device time", "wall time", "steps/pixel", "steps/hit pixel", "hit pixels"
+        "{:<16} {:>14} {:>14} {:>12} {:>16} {:>10} {:>22}",
+        "scene",
+        "device time",
+        "wall time",
+        "steps/pixel",
+        "steps/hit pixel",
+        "hit pixels",
+        "first frame (pipeline)"
     );
     for name in SCENES {
         let c = compiled(name);
-        // The first render compiles the pipeline; leave it out.
+        // The first render builds the pipeline: reported on its own, left out of the frames.
+        let start = std::time::Instant::now();
         r.render(&c, &options()).expect("render");
+        let first = start.elapsed();
         let frames = 5;
         let mut device = Duration::ZERO;
         let mut wall = Duration::ZERO;
@@ -95,9 +120,10 @@ fn main() {
             "n/a".into()
         };
         println!(
-            "{name:<16} {device:>14} {:>14} {steps:>12.1} {hit_mean:>16.1} {:>9.1}%",
+            "{name:<16} {device:>14} {:>14} {steps:>12.1} {hit_mean:>16.1} {:>9.1}% {:>22}",
             format!("{:.3?}", wall / frames),
-            hit_share
+            hit_share,
+            format!("{first:.3?}")
         );
     }
     println!();
@@ -116,8 +142,13 @@ fn main() {
             }
         };
         r.render(&c, &options()).expect("render");
+        let start = std::time::Instant::now();
         r.render_bytecode(c.program(), &code, &options())
             .expect("render");
+        println!(
+            "{name:<16} first interpreted frame (the interpreter's pipeline is built once): {:.3?}",
+            start.elapsed()
+        );
         let frames = 3;
         let (mut spec, mut interp) = (Timing::default(), Timing::default());
         // Interleaved, so a change in the machine's load hits both alike.

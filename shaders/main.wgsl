@@ -12,12 +12,17 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Angle subtended by one pixel: the surface threshold of `epsilon: pixel` grows with it.
     let pixel = 2.0 * TAN_HALF_FOV / fsize.y;
     var color = vec3<f32>(0.0);
+    // The sample at the pixel's centre (odd ANTIALIAS has one), for the AOVs.
+    var centre = Sample(vec3<f32>(0.0), Hit(0.0, 0u, false), vec3<f32>(0.0));
     for (var sy = 0u; sy < ANTIALIAS; sy = sy + 1u) {
         for (var sx = 0u; sx < ANTIALIAS; sx = sx + 1u) {
             let offset = (vec2<f32>(f32(sx), f32(sy)) + 0.5) / f32(ANTIALIAS);
             let rd = camera_ray(vec2<f32>(gid.xy) + offset, fsize);
-            let hit = march(CAMERA_POSITION, rd, pixel);
-            color = color + radiance(CAMERA_POSITION, rd, hit, pixel);
+            let sample = radiance(CAMERA_POSITION, rd, pixel);
+            color = color + sample.color;
+            if 2u * sx + 1u == ANTIALIAS && 2u * sy + 1u == ANTIALIAS {
+                centre = sample;
+            }
         }
     }
     color = color / f32(ANTIALIAS * ANTIALIAS);
@@ -25,15 +30,22 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let index = gid.y * size.x + gid.x;
     color_out[index] = pack4x8unorm(vec4<f32>(mapped, 1.0));
     if (frame.flags & 1u) != 0u {
-        let rd = camera_ray(vec2<f32>(gid.xy) + 0.5, fsize);
-        let hit = march(CAMERA_POSITION, rd, pixel);
+        // Even ANTIALIAS has no sample at the centre: its ray is marched on its own (a
+        // constant condition, so the shader of an odd setting has no second march).
+        if ANTIALIAS % 2u == 0u {
+            let rd = camera_ray(vec2<f32>(gid.xy) + 0.5, fsize);
+            let hit = march(CAMERA_POSITION, rd, pixel);
+            centre.hit = hit;
+            if hit.hit {
+                centre.normal = surface_normal(CAMERA_POSITION + rd * hit.t, rd, hit.t, pixel);
+            }
+        }
         var aov = vec4<f32>(0.0, 0.0, 0.0, -1.0);
-        if hit.hit {
-            let p = CAMERA_POSITION + rd * hit.t;
-            aov = vec4<f32>(surface_normal(p, rd, hit.t, pixel), hit.t);
+        if centre.hit.hit {
+            aov = vec4<f32>(centre.normal, centre.hit.t);
         }
         aov_out[2u * index] = aov;
-        aov_out[2u * index + 1u] = vec4<f32>(f32(hit.steps), 0.0, 0.0, 0.0);
+        aov_out[2u * index + 1u] = vec4<f32>(f32(centre.hit.steps), 0.0, 0.0, 0.0);
     }
 }
 

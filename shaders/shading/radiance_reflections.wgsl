@@ -1,15 +1,27 @@
+// What a camera ray brings back: its colour, its first hit and the normal there (for the
+// AOVs).
+struct Sample {
+    color: vec3<f32>,
+    hit: Hit,
+    normal: vec3<f32>,
+}
+
 // The colour a ray brings back, following mirror reflections up to REFLECTIONS bounces: each
 // surface keeps (1 - reflectivity) of its own shading and passes reflectivity on to what its
-// reflection sees; the last surface reached keeps all of its shading.
-fn radiance(ro: vec3<f32>, rd: vec3<f32>, first: Hit, pixel: f32) -> vec3<f32> {
+// reflection sees; the last surface reached keeps all of its shading. Every bounce, the first
+// included, marches at the one call of the marcher here (drivers inline the distance function
+// at every call).
+fn radiance(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Sample {
     var color = vec3<f32>(0.0);
     var weight = 1.0;
     var origin = ro;
     var dir = rd;
-    var hit = first;
+    var first = Hit(0.0, 0u, false);
+    var first_normal = vec3<f32>(0.0);
     for (var bounce = 0u; bounce <= REFLECTIONS; bounce = bounce + 1u) {
-        if bounce > 0u {
-            hit = march(origin, dir, pixel);
+        let hit = march(origin, dir, pixel);
+        if bounce == 0u {
+            first = hit;
         }
         if !hit.hit {
             color = color + weight * BACKGROUND;
@@ -17,6 +29,9 @@ fn radiance(ro: vec3<f32>, rd: vec3<f32>, first: Hit, pixel: f32) -> vec3<f32> {
         }
         let p = origin + dir * hit.t;
         let n = surface_normal(p, dir, hit.t, pixel);
+        if bounce == 0u {
+            first_normal = n;
+        }
         let material = scene_material(p);
         let offset = ray_offset(p, hit.t, pixel);
         let local = finish(shade(p, n, dir, material, offset), hit.t);
@@ -30,5 +45,5 @@ fn radiance(ro: vec3<f32>, rd: vec3<f32>, first: Hit, pixel: f32) -> vec3<f32> {
         dir = reflect(dir, n);
         origin = p + n * offset;
     }
-    return color;
+    return Sample(color, first, first_normal);
 }

@@ -332,7 +332,7 @@ mod tests {
     fn analytic_normals_replace_the_difference_surface_normal() {
         let main = analytic_surface_normal(parts::MAIN, true);
         assert_eq!(main.matches("fn surface_normal(").count(), 1);
-        assert!(main.contains("scene_gradient(p)"));
+        assert!(main.contains("scene_gradient(q)"));
         assert!(!main.contains("scene_normal("));
         assert!(main.contains("fn ray_offset(") && main.contains("fn normal_step("));
         assert_eq!(analytic_surface_normal(parts::MAIN, false), parts::MAIN);

@@ -12,34 +12,35 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Angle subtended by one pixel: the surface threshold of `epsilon: pixel` grows with it.
     let pixel = 2.0 * TAN_HALF_FOV / fsize.y;
     var color = vec3<f32>(0.0);
-    // The sample at the pixel's centre (odd ANTIALIAS has one), for the AOVs.
+    // The sample at the pixel's centre, for the AOVs: odd ANTIALIAS has one among its
+    // samples; even ANTIALIAS takes it as one more sample that adds no colour. One loop, so
+    // that `radiance` (and the marcher and the distance function in it, which drivers inline
+    // at every call) is called once.
     var centre = Sample(vec3<f32>(0.0), Hit(0.0, 0u, false), vec3<f32>(0.0));
-    for (var sy = 0u; sy < ANTIALIAS; sy = sy + 1u) {
-        for (var sx = 0u; sx < ANTIALIAS; sx = sx + 1u) {
-            let offset = (vec2<f32>(f32(sx), f32(sy)) + 0.5) / f32(ANTIALIAS);
-            let rd = camera_ray(vec2<f32>(gid.xy) + offset, fsize);
-            let sample = radiance(CAMERA_POSITION, rd, pixel);
+    let aovs = (frame.flags & 1u) != 0u;
+    let samples = ANTIALIAS * ANTIALIAS;
+    let extra = select(0u, 1u, aovs && ANTIALIAS % 2u == 0u);
+    for (var i = 0u; i < samples + extra; i = i + 1u) {
+        let sx = i % ANTIALIAS;
+        let sy = i / ANTIALIAS;
+        var offset = (vec2<f32>(f32(sx), f32(sy)) + 0.5) / f32(ANTIALIAS);
+        if i == samples {
+            offset = vec2<f32>(0.5);
+        }
+        let rd = camera_ray(vec2<f32>(gid.xy) + offset, fsize);
+        let sample = radiance(CAMERA_POSITION, rd, pixel);
+        if i < samples {
             color = color + sample.color;
-            if 2u * sx + 1u == ANTIALIAS && 2u * sy + 1u == ANTIALIAS {
-                centre = sample;
-            }
+        }
+        if i == samples || (2u * sx + 1u == ANTIALIAS && 2u * sy + 1u == ANTIALIAS) {
+            centre = sample;
         }
     }
-    color = color / f32(ANTIALIAS * ANTIALIAS);
+    color = color / f32(samples);
     let mapped = pow(clamp(color, vec3<f32>(0.0), vec3<f32>(1.0)), vec3<f32>(INV_GAMMA));
     let index = gid.y * size.x + gid.x;
     color_out[index] = pack4x8unorm(vec4<f32>(mapped, 1.0));
-    if (frame.flags & 1u) != 0u {
-        // Even ANTIALIAS has no sample at the centre: its ray is marched on its own (a
-        // constant condition, so the shader of an odd setting has no second march).
-        if ANTIALIAS % 2u == 0u {
-            let rd = camera_ray(vec2<f32>(gid.xy) + 0.5, fsize);
-            let hit = march(CAMERA_POSITION, rd, pixel);
-            centre.hit = hit;
-            if hit.hit {
-                centre.normal = surface_normal(CAMERA_POSITION + rd * hit.t, rd, hit.t, pixel);
-            }
-        }
+    if aovs {
         var aov = vec4<f32>(0.0, 0.0, 0.0, -1.0);
         if centre.hit.hit {
             aov = vec4<f32>(centre.normal, centre.hit.t);

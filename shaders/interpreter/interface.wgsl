@@ -42,7 +42,9 @@ struct Frame {
     lights_at: u32,
     params_at: u32,
     consts_at: u32,
-    pad: u32,
+    // Where the scene's bounds are in `data`: (low corner, mask of the finite axes), then
+    // (high corner, 0); see `ray_span`.
+    bounds_at: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -20,19 +20,72 @@ fn surface_epsilon(t: f32, pixel: f32) -> f32 {
     return frame.epsilon;
 }
 
+// The three difference normals of shaders/normals in one loop, the method chosen by
+// `frame.normals` (1 central, 2 forward, else tetrahedron): the interpreter is inlined at one
+// call here instead of three. Each method samples and sums as its own part does.
 fn scene_normal(p: vec3<f32>, h: f32) -> vec3<f32> {
-    switch frame.normals {
-        case 1u: { return scene_normal_central(p, h); }
-        case 2u: { return scene_normal_forward(p, h); }
-        default: { return scene_normal_tetrahedron(p, h); }
+    var k = array<vec3<f32>, 4>(
+        vec3<f32>(1.0, -1.0, -1.0),
+        vec3<f32>(-1.0, -1.0, 1.0),
+        vec3<f32>(-1.0, 1.0, -1.0),
+        vec3<f32>(1.0, 1.0, 1.0),
+    );
+    let method = frame.normals;
+    let count = select(4u, 6u, method == 1u);
+    var d0 = 0.0;
+    var n = vec3<f32>(0.0);
+    for (var i = 0u; i < count; i = i + 1u) {
+        var e = vec3<f32>(0.0);
+        if method == 1u {
+            e[i / 2u] = select(h, -h, (i & 1u) != 0u);
+        } else if method == 2u {
+            if i > 0u {
+                e[i - 1u] = h;
+            }
+        } else {
+            e = k[i] * h;
+        }
+        let d = scene_distance(p + e);
+        if method == 1u {
+            n[i / 2u] = select(d, n[i / 2u] - d, (i & 1u) != 0u);
+        } else if method == 2u {
+            if i == 0u {
+                d0 = d;
+            } else {
+                n[i - 1u] = d - d0;
+            }
+        } else {
+            n = n + k[i] * d;
+        }
     }
+    return safe_normalize(n);
 }
 
+// The hard (`frame.shadows` 1) and soft shadows of shaders/shading in one loop, each
+// stepping as its own part does: one call of the interpreter to inline instead of two.
 fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
-    if frame.shadows == 1u {
-        return shadow_hard(ro, rd, tmax);
+    let hard = frame.shadows == 1u;
+    var light = 1.0;
+    var t = 0.0;
+    for (var i = 0u; i < MAX_STEPS; i = i + 1u) {
+        if t >= tmax {
+            break;
+        }
+        let h = scene_distance(ro + rd * t);
+        if hard {
+            if h < 1e-5 * (1.0 + t) {
+                return 0.0;
+            }
+            t = t + h;
+        } else {
+            light = min(light, SHADOW_K * h / max(t, 1e-6));
+            if light <= 0.0 {
+                return 0.0;
+            }
+            t = t + max(h, 1e-3 * t + 1e-5);
+        }
     }
-    return shadow_soft(ro, rd, tmax);
+    return select(clamp(light, 0.0, 1.0), 1.0, hard);
 }
 
 // Phong shading as the specialised shader's, with a loop over the lights instead of one
@@ -78,8 +131,27 @@ fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {
     return c;
 }
 
-// The stretch of the ray the marcher searches: all of it up to MAX_DISTANCE (the
-// specialised shader narrows it to the scene's bounds; the bytecode carries none).
+// The stretch of the ray inside the scene's bounds (padded), as the specialised shader's
+// `ray_span` computes it from its constants: marching starts and ends there, and a ray that
+// misses them takes no step. Only the axes whose bit is set in the mask are bounded.
 fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(0.0, MAX_DISTANCE);
+    let lo = data[frame.bounds_at];
+    let hi = data[frame.bounds_at + 1u];
+    let finite = u32(lo.w);
+    var t0 = 0.0;
+    var t1 = MAX_DISTANCE;
+    for (var k = 0u; k < 3u; k = k + 1u) {
+        if (finite & (1u << k)) == 0u {
+            continue;
+        }
+        if abs(rd[k]) > 1e-30 {
+            let a = (lo[k] - ro[k]) / rd[k];
+            let b = (hi[k] - ro[k]) / rd[k];
+            t0 = max(t0, min(a, b));
+            t1 = min(t1, max(a, b));
+        } else if ro[k] < lo[k] || ro[k] > hi[k] {
+            t1 = -1.0;
+        }
+    }
+    return vec2<f32>(t0, t1);
 }

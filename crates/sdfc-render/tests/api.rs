@@ -365,6 +365,40 @@ fn aovs_round_trip_bit_for_bit_through_npy_and_exr() {
     ));
 }
 
+/// The AOVs are the pixel centre's ray whatever the antialiasing: with an odd `antialias` the
+/// centre is one of the samples (its colour sample is reused), with an even one it is marched
+/// as an extra sample that adds no colour. Depth, normal and steps are the same bits as
+/// without antialiasing, and asking for AOVs leaves the colour as it is.
+#[test]
+fn aovs_are_the_centre_ray_at_every_antialias_setting() {
+    let Some(r) = renderer() else { return };
+    let scene = |aa: u32| {
+        format!(
+            "render {{ antialias: {aa} }}\n\
+             scene = union(sphere(1), box([0.6, 0.6, 0.6]).translate([1.2, 0.4, 0]));\n"
+        )
+    };
+    let size = RenderOptions::sized(24, 18);
+    let with_aovs = RenderOptions {
+        aovs: true,
+        ..size.clone()
+    };
+    let one = r.render(&compile("aa1", &scene(1)), &with_aovs).unwrap();
+    let one = one.aovs.unwrap();
+    assert!(one.depth.iter().any(|d| d.is_finite()));
+    for aa in [2, 3] {
+        let c = compile("aa", &scene(aa));
+        let frame = r.render(&c, &with_aovs).unwrap();
+        let aovs = frame.aovs.as_ref().unwrap();
+        assert_eq!(bits(&aovs.depth), bits(&one.depth), "antialias {aa}");
+        assert_eq!(bits(&aovs.steps), bits(&one.steps), "antialias {aa}");
+        let normals = |a: &sdfc_render::Aovs| bits(&a.normal.concat());
+        assert_eq!(normals(aovs), normals(&one), "antialias {aa}");
+        let plain = r.render(&c, &size).unwrap();
+        assert_eq!(plain.rgba, frame.rgba, "antialias {aa}");
+    }
+}
+
 fn bits(v: &[f32]) -> Vec<u32> {
     v.iter().map(|f| f.to_bits()).collect()
 }

@@ -152,13 +152,11 @@ fn mean_colour_difference(a: &Frame, b: &Frame) -> f64 {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn a_sphere() {
     compare("sphere", &compile("sphere", "scene = sphere(1);\n"));
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn the_spec_section_10_scene() {
     compare(
         "spec_section10",
@@ -167,7 +165,7 @@ fn the_spec_section_10_scene() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
+#[ignore = "fails on lavapipe (Mesa 22.3.6, LLVM 15), on its Vulkan and GL paths alike: runs of up to 8 pixels along rows differ (mean colour difference 1.2/255 without antialiasing, 24/255 with it); also at 21f6aa7, before the interpreter built fast enough to run here; driver or interpreter not yet known; run with `--ignored`"]
 fn smooth_union_materials_shadows_ao_reflections_fog() {
     compare(
         "features",
@@ -176,7 +174,7 @@ fn smooth_union_materials_shadows_ao_reflections_fog() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
+#[ignore = "fails on lavapipe (Mesa 22.3.6, LLVM 15), on its Vulkan and GL paths alike: runs of up to 8 pixels along rows differ (mean colour difference 1.2/255 without antialiasing, 24/255 with it); also at 21f6aa7, before the interpreter built fast enough to run here; driver or interpreter not yet known; run with `--ignored`"]
 fn antialiasing_with_shadows_and_ao() {
     let src = FEATURES
         .replace("{AA}", "antialias: 2,")
@@ -200,13 +198,11 @@ fn all_features_at_once() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn every_helper_and_operation() {
     compare("shapes", &compile("shapes", SHAPES));
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn a_union_split_into_groups() {
     // The benchmark's 300-shape grid fits the register file (56 of 64 registers, since
     // the encoder schedules a union's material child by child).
@@ -222,7 +218,6 @@ fn a_union_split_into_groups() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn the_render_test_scenes() {
     let dir = common::root().join("crates/sdfc-render/tests/scenes");
     let paths = sdfc_tests::sdf_files(&dir);
@@ -235,7 +230,11 @@ fn the_render_test_scenes() {
             .to_string();
         // Over-relaxation through a displaced surface (see `compare_with`): 10 far pixels
         // (t 16 to 84) differ on lavapipe; at most 15 (0.5% of the image) may.
-        let allowed = if rel.ends_with("relaxation.sdf") {
+        // The interpreter has no gradient code: `normals: analytic` falls back to the
+        // tetrahedron there (docs/language.md), which differs from the gradient along the
+        // scene's creases by more than the normal tolerance: 9 of 414 hit pixels on lavapipe,
+        // at most 15 may.
+        let allowed = if rel.ends_with("relaxation.sdf") || rel.ends_with("normals_analytic.sdf") {
             15
         } else {
             0
@@ -245,7 +244,6 @@ fn the_render_test_scenes() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn one_pipeline_for_every_interpreted_scene() {
     // A renderer of its own, so other tests' pipelines do not count.
     let Some(_) = renderer() else { return };
@@ -265,7 +263,6 @@ fn one_pipeline_for_every_interpreted_scene() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-render --test interpreted -- --ignored` on a GPU or an idle machine"]
 fn params_and_time_reach_the_interpreter() {
     let Some(r) = renderer() else { return };
     let c = compile_file("crates/sdfc-render/tests/scenes/params_time.sdf");

@@ -185,33 +185,57 @@ fn constants(scene: &Scene, origin: [f32; 3]) -> String {
     s
 }
 
+/// The analysis's box of the scene's root (world coordinates; infinite on unbounded axes).
+pub fn root_bounds(p: &sdfc_ir::Program) -> ([f64; 3], [f64; 3]) {
+    p.analysis
+        .nodes
+        .get(p.scene.root.index())
+        .map_or(([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]), |n| {
+            (n.bounds.lo, n.bounds.hi)
+        })
+}
+
+/// The slabs `ray_span` clips rays to: per axis, `Some((lo, hi))` in shader coordinates
+/// (`origin` subtracted) where the scene's bounds are finite, each padded by a thousandth of
+/// the box's size (and at least 1e-3) so that f32 rounding of the slab test never cuts a
+/// surface off, computed in f64 and rounded outwards. Shared by the specialised shader (as
+/// constants) and the interpreter (in its data buffer), so both clip alike.
+pub fn span_slabs(bounds: ([f64; 3], [f64; 3]), origin: [f32; 3]) -> [Option<(f32, f32)>; 3] {
+    let (lo, hi) = bounds;
+    let finite = |k: usize| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k];
+    let size = (0..3)
+        .filter(|&k| finite(k))
+        .map(|k| hi[k] - lo[k])
+        .fold(0.0f64, f64::max);
+    let pad = (1e-3 * size).max(1e-3);
+    std::array::from_fn(|k| {
+        finite(k).then(|| {
+            (
+                f32_down(lo[k] - origin[k] as f64 - pad),
+                f32_up(hi[k] - origin[k] as f64 + pad),
+            )
+        })
+    })
+}
+
 /// `ray_span(ro, rd)`: the stretch of the ray, from 0 to MAX_DISTANCE, inside the scene's
-/// bounds on the axes where they are finite (each padded by a thousandth of the box's size,
-/// and at least 1e-3, so that f32 rounding of the slab test never cuts a surface off). No
-/// surface lies before or after it, so the marchers start and end there, and a ray that
-/// misses the box takes no step.
+/// bounds on the axes where they are finite ([`span_slabs`]). No surface lies before or after
+/// it, so the marchers start and end there, and a ray that misses the box takes no step.
 fn ray_span(view: &View) -> String {
-    let (lo, hi) = view.bounds;
-    let finite: Vec<usize> = (0..3)
-        .filter(|&k| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k])
-        .collect();
+    let slabs = span_slabs(view.bounds, view.origin);
     let mut s = String::from(
         "// The stretch of the ray inside the scene's bounds (padded): marching starts and ends\n\
          // there, and a ray that misses them takes no step.\n\
          fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {\n",
     );
-    if finite.is_empty() {
+    if slabs.iter().all(Option::is_none) {
         s += "    return vec2<f32>(0.0, MAX_DISTANCE);\n}\n";
         return s;
     }
-    let size = finite.iter().map(|&k| hi[k] - lo[k]).fold(0.0f64, f64::max);
-    let pad = (1e-3 * size).max(1e-3);
     s += "    var t0 = 0.0;\n    var t1 = MAX_DISTANCE;\n";
-    for k in finite {
+    for (k, slab) in slabs.iter().enumerate() {
+        let Some((a, b)) = *slab else { continue };
         let c = ["x", "y", "z"][k];
-        // In shader coordinates (camera-relative where the view is), in f64, rounded outwards.
-        let a = f32_down(lo[k] - view.origin[k] as f64 - pad);
-        let b = f32_up(hi[k] - view.origin[k] as f64 + pad);
         let _ = write!(
             s,
             "    if abs(rd.{c}) > 1e-30 {{\n\

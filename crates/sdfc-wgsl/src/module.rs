@@ -173,13 +173,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     );
     if !lib {
         s += "\n";
-        let bounds = p
-            .analysis
-            .nodes
-            .get(p.scene.root.index())
-            .map_or(([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]), |n| {
-                (n.bounds.lo, n.bounds.hi)
-            });
+        let bounds = marcher::root_bounds(p);
         let view = match relative {
             Some(r) => marcher::View {
                 origin: r.origin,

@@ -1,9 +1,10 @@
 //! The interpreter's per-frame inputs, laid out as `shaders/interpreter/interface.wgsl`
 //! declares them: the `Frame` uniform (image, time, camera, render settings, where things
-//! sit in the data buffer) and the data buffer (lights, params, constants).
+//! sit in the data buffer) and the data buffer (lights, params, the scene's bounds,
+//! constants).
 
 use super::encode::Bytecode;
-use crate::marcher::camera_basis;
+use crate::marcher::{camera_basis, root_bounds, span_slabs};
 use sdfc_ir::scene::{Epsilon, LightKind, Normals, Shadows};
 use sdfc_ir::types::Ty;
 use sdfc_ir::Program;
@@ -73,6 +74,22 @@ pub fn frame_data(
         let float = scene.params.get(i).is_some_and(|d| d.ty == Ty::F32);
         data.push(if float { [v[0]; 4] } else { *v });
     }
+    // The scene's slabs as the specialised shader's `ray_span` has them (world coordinates,
+    // as the interpreter marches): low corner with the mask of finite axes in w, high corner.
+    let bounds_at = data.len() as u32;
+    let slabs = span_slabs(root_bounds(program), [0.0; 3]);
+    let mut lo = [0.0f32; 4];
+    let mut hi = [0.0f32; 4];
+    let mut mask = 0u32;
+    for (k, slab) in slabs.iter().enumerate() {
+        if let Some((a, b)) = *slab {
+            (lo[k], hi[k]) = (a, b);
+            mask |= 1 << k;
+        }
+    }
+    lo[3] = mask as f32;
+    data.push(lo);
+    data.push(hi);
     let consts_at = data.len() as u32;
     data.extend_from_slice(&code.consts);
     if data.is_empty() {
@@ -137,7 +154,7 @@ pub fn frame_data(
     w.u(lights_at);
     w.u(params_at);
     w.u(consts_at);
-    w.u(0);
+    w.u(bounds_at);
     debug_assert_eq!(w.0.len(), FRAME_BYTES);
 
     let data_bytes = data

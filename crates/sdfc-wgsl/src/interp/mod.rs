@@ -15,7 +15,9 @@
 //!   constants.
 //!
 //! The shader reuses the specialised shader's hand-written parts (hit refinement, the
-//! relaxed marcher, camera, normals, shadows, ambient occlusion, reflections, entry point):
+//! relaxed marcher, camera, ambient occlusion, reflections, entry point; the normals and
+//! shadows are `shaders/interpreter/scene.wgsl`'s, every method in one loop, so that the
+//! interpreter is inlined at as few calls as possible):
 //! each compile-time constant they name (`MAX_STEPS`, `CAMERA_POSITION`, ...) is rewritten
 //! to the uniform's field ([`RUNTIME_SETTINGS`]). The relaxed marcher with `RELAXATION = 1` takes exactly the plain
 //! marcher's steps, and the reflection loop with `REFLECTIONS = 0` returns exactly the
@@ -79,12 +81,6 @@ fn runtime(part: &str) -> String {
     out
 }
 
-/// A hand-written part whose `fn NAME(` is renamed, so that several variants of one part
-/// (normals, shadows) can sit in one module behind a runtime switch.
-fn renamed(part: &str, from: &str, to: &str) -> String {
-    part.replace(&format!("fn {from}("), &format!("fn {to}("))
-}
-
 /// The interpreter module's text (not yet validated).
 pub fn emit() -> String {
     let mut s = format!(
@@ -116,18 +112,6 @@ pub fn emit() -> String {
     s += &runtime(parts::CAMERA);
     s += "\n";
     s += &runtime(parts::SAFE_NORMALIZE);
-    for (part, name) in [
-        (parts::NORMALS_TETRAHEDRON, "scene_normal_tetrahedron"),
-        (parts::NORMALS_CENTRAL, "scene_normal_central"),
-        (parts::NORMALS_FORWARD, "scene_normal_forward"),
-    ] {
-        s += "\n";
-        s += &runtime(&renamed(part, "scene_normal", name));
-    }
-    s += "\n";
-    s += &runtime(&renamed(parts::SHADOW_HARD, "shadow", "shadow_hard"));
-    s += "\n";
-    s += &runtime(&renamed(parts::SHADOW_SOFT, "shadow", "shadow_soft"));
     s += "\n";
     s += &runtime(parts::AMBIENT_OCCLUSION);
     s += "\n";

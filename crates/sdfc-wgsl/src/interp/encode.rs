@@ -745,3 +745,56 @@ fn arity(op: Opcode) -> usize {
         _ => 2,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every register an instruction reads was written earlier in the same function (or is
+    /// the point, register 0): the shader's register file holds whatever an earlier call left
+    /// in it, so a read before a write would make the result depend on the lane's history.
+    fn reads_only_written_registers(name: &str, src: &str) {
+        let c = crate::compile(src, &crate::Options::default()).unwrap();
+        let code = encode(c.program()).unwrap();
+        for (func, [start, end]) in [("distance", code.distance), ("material", code.material)] {
+            let mut written = vec![false; MAX_REGISTERS as usize];
+            written[0] = true;
+            for pc in start..end {
+                let [op, d, a01, a23] = code.code[pc as usize];
+                let op = *Opcode::ALL.iter().find(|o| o.code() == op).unwrap();
+                let args = [a01 & 0xffff, a01 >> 16, a23 & 0xffff, a23 >> 16];
+                for &r in &args[..arity(op)] {
+                    assert!(
+                        written[r as usize],
+                        "{name}: {func} instruction {pc} ({}) reads r{r} before any write\n{}",
+                        op.mnemonic(),
+                        code.listing()
+                    );
+                }
+                if op != Opcode::Ret {
+                    written[(d & 0xffff) as usize] = true;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn no_register_is_read_before_it_is_written() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let mut paths = Vec::new();
+        for dir in ["examples", "crates/sdfc-render/tests/scenes"] {
+            for e in std::fs::read_dir(root.join(dir)).unwrap() {
+                let p = e.unwrap().path();
+                if p.extension().is_some_and(|e| e == "sdf") {
+                    paths.push(p);
+                }
+            }
+        }
+        paths.sort();
+        assert!(paths.len() > 20, "the scenes are missing");
+        for p in paths {
+            let src = std::fs::read_to_string(&p).unwrap();
+            reads_only_written_registers(&p.display().to_string(), &src);
+        }
+    }
+}

@@ -164,6 +164,13 @@ fn the_spec_section_10_scene() {
     );
 }
 
+// What is known of the two lavapipe failures below (2026-12-02): the differences are
+// deterministic (the same with one rasterizer thread or several) and come in runs of up to 8
+// pixels along rows; they change when the interpreter's register file is zeroed explicitly
+// at each call or moved to private memory, although the encoder writes every register
+// before reading it (`encode.rs`, `no_register_is_read_before_it_is_written`) and so no
+// correct compilation could depend on it; replacing the opcode `switch` by an `if` chain
+// changes nothing. Without reflections and antialiasing the same scene agrees (0.02/255).
 #[test]
 #[ignore = "fails on lavapipe (Mesa 22.3.6, LLVM 15), on its Vulkan and GL paths alike: runs of up to 8 pixels along rows differ (mean colour difference 1.2/255 without antialiasing, 24/255 with it); also at 21f6aa7, before the interpreter built fast enough to run here; driver or interpreter not yet known; run with `--ignored`"]
 fn smooth_union_materials_shadows_ao_reflections_fog() {

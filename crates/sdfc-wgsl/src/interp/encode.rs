@@ -730,7 +730,8 @@ impl Bytecode {
     }
 }
 
-/// Register arguments an opcode reads (for listings; unused slots are 0).
+/// Register arguments an opcode reads, as its `case` in `shaders/interpreter/interpret.wgsl`
+/// uses them (for listings and the read-before-write test; unused slots are 0).
 fn arity(op: Opcode) -> usize {
     use Opcode::*;
     match op {
@@ -740,8 +741,9 @@ fn arity(op: Opcode) -> usize {
         | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4
         | Normalize2 | Normalize3 | Normalize4 | Noise | NoiseGradient => 1,
         Select | Clamp | Mix | Smoothstep | MatRow | SdRoundBox | SdTorus | SdCylinder
-        | RotateX | RotateY | RotateZ => 3,
-        MakeVec | Mat3Vec | SdCapsule => 4,
+        | RotateX | RotateY | RotateZ | SdBoxFrame | SdHexPrism | SdTriPrism => 3,
+        MakeVec | Mat3Vec | SdCapsule | SdCappedTorus | SdCappedCone | SdMandelbulb
+        | SdMandelbulbInt => 4,
         _ => 2,
     }
 }
@@ -775,6 +777,28 @@ mod tests {
                     written[(d & 0xffff) as usize] = true;
                 }
             }
+        }
+    }
+
+    /// `arity` says which argument registers each opcode's `case` in the shader reads (`a`
+    /// to `d`, in order), so the listing and the test below see what the shader does.
+    #[test]
+    fn arities_match_the_shader() {
+        for op in Opcode::ALL.iter().filter(|o| **o != Opcode::Ret) {
+            let case = format!("case {}:", op.wgsl_name());
+            let line = super::super::INTERPRET
+                .lines()
+                .find(|l| l.contains(&case))
+                .unwrap_or_else(|| panic!("no case for {}", op.mnemonic()));
+            let body = &line[line.find('{').unwrap()..];
+            let words: Vec<&str> = body
+                .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .collect();
+            let used = ["a", "b", "c", "d"]
+                .iter()
+                .rposition(|r| words.contains(r))
+                .map_or(0, |i| i + 1);
+            assert_eq!(arity(*op), used, "{}: {line}", op.mnemonic());
         }
     }
 

@@ -135,7 +135,6 @@ fn bad_options_are_usage_errors() {
 }
 
 #[test]
-#[ignore = "building the interpreter's pipeline takes minutes on lavapipe (over 6 min of CPU under CI load, measured 2026-11-25); run with `cargo test -p sdfc-cli --test render -- --ignored` on a GPU or an idle machine"]
 fn interpreted_renders_the_same_picture() {
     if !have_device() {
         return;

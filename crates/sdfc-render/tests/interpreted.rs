@@ -224,6 +224,18 @@ fn a_union_split_into_groups() {
     compare("grid_40", &c);
 }
 
+/// The benchmark's 300-shape grid. On lavapipe 30 of 3 072 pixels flip between hit and miss
+/// and 16 hit pixels get another normal, in runs along rows: the fault of the two tests
+/// above, and the same before and after the encoder's call-by-call order (2026-12-02).
+#[test]
+#[ignore = "fails on lavapipe (Mesa 22.3.6, LLVM 15): 30 hit/miss flips in runs along rows, the fault described above; run with `--ignored`"]
+fn the_300_shape_grid() {
+    compare(
+        "grid_300",
+        &compile("grid_300", &sdfc_tests::grid_scene(300)),
+    );
+}
+
 #[test]
 fn the_render_test_scenes() {
     let dir = common::root().join("crates/sdfc-render/tests/scenes");

@@ -5,6 +5,14 @@ struct Hit {
     hit: bool,
 }
 
+// What `radiance` brings back for a camera ray: its colour, its first hit and the normal
+// there (the entry point writes the last two as AOVs).
+struct Sample {
+    color: vec3<f32>,
+    hit: Hit,
+    normal: vec3<f32>,
+}
+
 // The end of a march that left its loop without a hit, at t after `steps` samples. Out of
 // steps while passing a surface by, still within a tenth of the threshold (`passing`), is a
 // hit where the ray is: a ray that grazes a silhouette crawls past it in steps of about a

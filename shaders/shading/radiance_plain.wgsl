@@ -1,10 +1,3 @@
-// What a camera ray brings back: its colour, its hit and the normal there (for the AOVs).
-struct Sample {
-    color: vec3<f32>,
-    hit: Hit,
-    normal: vec3<f32>,
-}
-
 // The colour a ray brings back: the shaded surface it hits, or the background. The march is
 // in here, not in the caller, so that the entry point calls the marcher (and so the distance
 // function, which drivers inline at every call) once.

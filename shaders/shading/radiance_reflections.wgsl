@@ -1,11 +1,3 @@
-// What a camera ray brings back: its colour, its first hit and the normal there (for the
-// AOVs).
-struct Sample {
-    color: vec3<f32>,
-    hit: Hit,
-    normal: vec3<f32>,
-}
-
 // The colour a ray brings back, following mirror reflections up to REFLECTIONS bounces: each
 // surface keeps (1 - reflectivity) of its own shading and passes reflectivity on to what its
 // reflection sees; the last surface reached keeps all of its shading. Every bounce, the first

@@ -61,6 +61,19 @@ pub struct Material {
     pub reflectivity: f32,
 }
 
+impl Material {
+    /// The shader's albedo vector: rgb colour, reflectivity.
+    pub fn albedo(&self) -> [f32; 4] {
+        let c = self.color;
+        [c[0], c[1], c[2], self.reflectivity]
+    }
+
+    /// The shader's phong vector: ambient, diffuse, specular, shininess.
+    pub fn phong(&self) -> [f32; 4] {
+        [self.ambient, self.diffuse, self.specular, self.shininess]
+    }
+}
+
 impl Default for Material {
     fn default() -> Material {
         Material {

@@ -321,8 +321,7 @@ impl<'s> Builder<'s> {
 
     fn material_const(&mut self, index: u32) -> Mat {
         let m: &Material = &self.scene.materials[index as usize];
-        let albedo = Value::V4([m.color[0], m.color[1], m.color[2], m.reflectivity]);
-        let phong = Value::V4([m.ambient, m.diffuse, m.specular, m.shininess]);
+        let (albedo, phong) = (Value::V4(m.albedo()), Value::V4(m.phong()));
         [self.g.konst(albedo), self.g.konst(phong)]
     }
 

@@ -61,13 +61,9 @@ impl Consts {
         let mut out = Consts::default();
         let mut taken = BTreeSet::new();
         for m in materials {
-            let albedo = Value::V4([m.color[0], m.color[1], m.color[2], m.reflectivity]);
-            let phong = Value::V4([m.ambient, m.diffuse, m.specular, m.shininess]);
-            for (part, v) in [("ALBEDO", albedo), ("PHONG", phong)] {
-                let Some(k) = key(&v).filter(|k| used.contains(k)) else {
-                    continue;
-                };
-                if out.names.contains_key(&k) {
+            for (part, v) in [("ALBEDO", m.albedo()), ("PHONG", m.phong())] {
+                let k = v.map(f32::to_bits);
+                if !used.contains(&k) || out.names.contains_key(&k) {
                     continue;
                 }
                 let mut name = ident(&m.name, part);
@@ -77,7 +73,8 @@ impl Consts {
                     name = format!("{base}{n}");
                     n += 1;
                 }
-                out.decls.push((name.clone(), literal::value(&v)));
+                out.decls
+                    .push((name.clone(), literal::value(&Value::V4(v))));
                 out.names.insert(k, name);
             }
         }

@@ -149,3 +149,29 @@ impl SplitMix {
         [0, 1, 2].map(|i| lo[i] + (hi[i] - lo[i]) * self.unit())
     }
 }
+
+/// A scene of the performance suite by name: `sphere`, `grid_300`, `grid_5000` (generated
+/// by [`grid_scene`]), or an example of `examples/` (`spec_section10`, `terrain`,
+/// `fractals`, ...).
+pub fn suite_scene(name: &str) -> String {
+    match name {
+        "sphere" => "scene = sphere(1);\n".to_string(),
+        "grid_300" => grid_scene(300),
+        "grid_5000" => grid_scene(5000),
+        _ => {
+            let path = root().join(format!("../examples/{name}.sdf"));
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        }
+    }
+}
+
+/// The image size of the render benchmarks: `SDFC_BENCH_SIZE=WxH`, else 160x120.
+pub fn bench_size() -> (u32, u32) {
+    std::env::var("SDFC_BENCH_SIZE")
+        .ok()
+        .and_then(|s| {
+            let (w, h) = s.split_once('x')?;
+            Some((w.parse().ok()?, h.parse().ok()?))
+        })
+        .unwrap_or((160, 120))
+}

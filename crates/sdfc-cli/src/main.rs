@@ -6,12 +6,14 @@ mod check;
 mod compare;
 mod compile;
 mod eval;
+mod live;
 mod plot;
 mod render;
 mod report;
+mod watch;
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -115,5 +117,30 @@ pub fn load_scene(
             Ok(c)
         }
         Err(f) => Err(report::failure(&name, &source, &f)),
+    }
+}
+
+/// Reads, parses and lowers a scene file without emitting its WGSL (the live path), printing
+/// its warnings; on failure the diagnostics are printed and the outcome comes back.
+pub fn load_lowered(
+    path: &PathBuf,
+    opts: &sdfc_wgsl::Options,
+) -> Result<sdfc_wgsl::Lowered, Outcome> {
+    lower_source(path, &read_source(path)?, opts)
+}
+
+/// Parses and lowers the text of a scene file, as [`load_lowered`].
+pub fn lower_source(
+    path: &Path,
+    source: &str,
+    opts: &sdfc_wgsl::Options,
+) -> Result<sdfc_wgsl::Lowered, Outcome> {
+    let name = path.display().to_string();
+    match sdfc_wgsl::lower(source, opts) {
+        Ok(l) => {
+            report::diagnostics(&name, source, &l.warnings);
+            Ok(l)
+        }
+        Err(f) => Err(report::failure(&name, source, &f)),
     }
 }

@@ -38,6 +38,24 @@ pub struct Args {
     /// Compile large unions with bounding-box early-outs, as `sdfc compile --cull`
     #[arg(long, conflicts_with = "interpreted")]
     cull: bool,
+    /// A first picture as soon as possible: if the scene's specialised pipeline is not built
+    /// within the grace period, the interpreted marcher draws a preview into OUT while it
+    /// builds, then the specialised frame replaces it; the times go to stderr
+    #[arg(long, conflicts_with_all = ["interpreted", "compare"])]
+    live: bool,
+    /// With --live: milliseconds to wait for the specialised pipeline before drawing the
+    /// preview
+    #[arg(long, value_name = "MS", default_value_t = 0, requires = "live")]
+    grace: u64,
+    /// With --live: draw the preview at 1/N of the width and height, enlarged to the full size
+    /// [default: 4 on a GPU, 8 on a CPU device]
+    #[arg(long, value_name = "N", requires = "live",
+          value_parser = clap::value_parser!(u32).range(1..=64))]
+    preview_scale: Option<u32>,
+    /// With --live: keep running, and render again each time the scene file changes (a
+    /// mistake is reported and the last picture kept); stop with Ctrl-C
+    #[arg(long, requires = "live")]
+    watch: bool,
     /// Also render the f64 CPU reference and print the GPU frame's error against it (depth,
     /// hit/miss, normals, colour, NaN/Inf) on stdout; -o is optional then
     #[arg(long)]
@@ -125,10 +143,33 @@ pub fn prepare(
         cull,
         ..sdfc_wgsl::Options::default()
     };
-    let compiled = load_scene(scene, &opts)?;
+    let (compiled, renderer) = with_device(|| load_scene(scene, &opts));
+    let compiled = compiled?;
     let overrides = param_overrides(compiled.program(), params)?;
-    let renderer = open_renderer()?;
-    Ok((compiled, overrides, renderer))
+    Ok((compiled, overrides, renderer?))
+}
+
+/// Runs `work` (reading and compiling the scene) while the device opens on another thread:
+/// opening it takes as long as compiling a small scene. The device is named on stderr only
+/// once `work` has succeeded, after any diagnostics.
+pub fn with_device<T>(
+    work: impl FnOnce() -> Result<T, Outcome>,
+) -> (Result<T, Outcome>, Result<Renderer, Outcome>) {
+    let (done, device) = std::thread::scope(|s| {
+        let device = s.spawn(Renderer::new);
+        let done = work();
+        (done, device.join())
+    });
+    if done.is_err() {
+        return (done, Err(Outcome::InputError));
+    }
+    let device = match device {
+        Ok(d) => named(d),
+        Err(_) => named(Err(RenderError::Device(
+            "opening the device panicked".into(),
+        ))),
+    };
+    (done, device)
 }
 
 /// The f32 form the device takes.
@@ -141,7 +182,12 @@ pub fn to_f32(params: &[(String, Vec<f64>)]) -> Vec<(String, Vec<f32>)> {
 
 /// Opens the device and says which on stderr.
 pub fn open_renderer() -> Result<Renderer, Outcome> {
-    match Renderer::new() {
+    named(Renderer::new())
+}
+
+/// Names the device on stderr, or says why there is none.
+fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
+    match opened {
         Ok(r) => {
             eprintln!("sdfc: device: {}", r.adapter_description());
             Ok(r)
@@ -197,6 +243,20 @@ pub fn run(a: Args) -> Outcome {
     if !a.time.is_finite() {
         eprintln!("error: --time must be finite, found {}", a.time);
         return Outcome::EnvError;
+    }
+    if a.live {
+        return crate::live::run(crate::live::Request {
+            scene: &a.scene,
+            output: a.output.as_deref(),
+            aov: a.aov,
+            params: &a.params,
+            size: a.size,
+            time: a.time,
+            cull: a.cull,
+            grace: std::time::Duration::from_millis(a.grace),
+            preview_scale: a.preview_scale,
+            watch: a.watch,
+        });
     }
     let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, a.cull) {
         Ok(p) => p,

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{eval_lines, s, sdfc_env, sdfc_in, TempDir};
+use common::{eval_lines, s, sdfc_env, sdfc_in, Run, TempDir};
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -45,6 +45,15 @@ fn have_device() -> bool {
             false
         }
     }
+}
+
+/// Runs `sdfc render SCENE -o OUT` in `t` with each group of further options.
+fn render_in(t: &TempDir, scene: &Path, out: &Path, options: &[&[&str]]) -> Run {
+    let mut args = vec!["render", s(scene), "-o", s(out)];
+    for group in options {
+        args.extend(group.iter().copied());
+    }
+    sdfc_in(&t.0, &args)
 }
 
 fn read_png(path: &Path) -> image::RgbaImage {
@@ -144,13 +153,9 @@ fn interpreted_renders_the_same_picture() {
     let plain = t.path("plain.png");
     let interp = t.path("interp.png");
     let depth = t.path("depth.npy");
-    let size = ["--size", "33x25", "--param", "r=1.5"];
-    let mut args = vec!["render", s(&scene), "-o", s(&plain)];
-    args.extend(size);
-    sdfc_in(&t.0, &args).expect_code(0);
-    let mut args = vec!["render", s(&scene), "-o", s(&interp), "--interpreted"];
-    args.extend(size);
-    sdfc_in(&t.0, &args).expect_code(0);
+    let size: &[&str] = &["--size", "33x25", "--param", "r=1.5"];
+    render_in(&t, &scene, &plain, &[size]).expect_code(0);
+    render_in(&t, &scene, &interp, &[size, &["--interpreted"]]).expect_code(0);
     let (a, b) = (read_png(&plain), read_png(&interp));
     assert_eq!(a.dimensions(), (33, 25));
     assert_eq!(b.dimensions(), (33, 25));
@@ -163,17 +168,13 @@ fn interpreted_renders_the_same_picture() {
     let mean = diff as f64 / a.as_raw().len() as f64;
     assert!(mean < 1.0, "mean colour difference {mean}/255");
     // The AOVs too: the camera axis meets the sphere of radius 1.5 at t = 3.5.
-    let mut args = vec![
-        "render",
-        s(&scene),
-        "-o",
-        s(&depth),
-        "--interpreted",
-        "--aov",
-        "depth",
-    ];
-    args.extend(size);
-    sdfc_in(&t.0, &args).expect_code(0);
+    render_in(
+        &t,
+        &scene,
+        &depth,
+        &[size, &["--interpreted", "--aov", "depth"]],
+    )
+    .expect_code(0);
     let (shape, d) = read_npy(&depth);
     assert_eq!(shape, vec![25, 33]);
     let centre = 12 * 33 + 16;
@@ -802,4 +803,194 @@ fn cull_renders_the_same_depths() {
             );
         }
     }
+}
+
+#[test]
+fn live_writes_the_specialised_picture_and_says_when() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("live");
+    let scene = t.write("s.sdf", PARAM_SPHERE);
+    let plain = t.path("plain.png");
+    let live = t.path("live.png");
+    let depth = t.path("depth.npy");
+    let size: &[&str] = &["--size", "33x25", "--param", "r=1.5"];
+    render_in(&t, &scene, &plain, &[size]).expect_code(0);
+    // No grace: the interpreter's preview is drawn if it is ready before the scene's
+    // pipeline (on a CPU device, only once warm, which a one-off render never is); either
+    // way the file ends as the specialised picture.
+    let live_options: &[&str] = &["--live", "--grace", "0", "--preview-scale", "4"];
+    let run = render_in(&t, &scene, &live, &[size, live_options]).expect_code(0);
+    assert!(
+        run.stderr.contains("final frame (specialised) after"),
+        "{}",
+        run.describe()
+    );
+    assert!(
+        run.stderr.contains("preview (interpreted, 9x7 enlarged)")
+            || run
+                .stderr
+                .contains("no preview: the specialised pipeline was ready before")
+            || run
+                .stderr
+                .contains("no preview: on a CPU device the interpreter draws"),
+        "{}",
+        run.describe()
+    );
+    assert_eq!(read_png(&live), read_png(&plain));
+    // No file is left beside the output.
+    let left: Vec<_> = std::fs::read_dir(&t.0)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("sdfc-live"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    // An AOV, with the grace left to the device: the camera axis meets the sphere at 3.5.
+    render_in(&t, &scene, &depth, &[size, &["--live", "--aov", "depth"]]).expect_code(0);
+    let (shape, d) = read_npy(&depth);
+    assert_eq!(shape, vec![25, 33]);
+    assert!((d[12 * 33 + 16] - 3.5).abs() < 1e-5, "{}", d[12 * 33 + 16]);
+}
+
+#[test]
+fn live_reports_mistakes_as_render_does() {
+    let t = TempDir::new("live-errors");
+    let broken = t.write("b.sdf", BROKEN);
+    let scene = t.write("s.sdf", SPHERE);
+    let out = t.path("o.png");
+    let run = sdfc_in(&t.0, &["render", s(&broken), "-o", s(&out), "--live"]).expect_code(1);
+    assert!(run.stderr.contains("b.sdf:2:9"), "{}", run.describe());
+    assert!(!run.stderr.contains("device:"), "{}", run.describe());
+    for args in [
+        vec!["--live", "--interpreted"],
+        vec!["--grace", "10"],
+        vec!["--live", "--preview-scale", "0"],
+        vec!["--live", "--compare"],
+        vec!["--watch"],
+    ] {
+        let mut all = vec!["render", s(&scene), "-o", s(&out)];
+        all.extend(args.iter().copied());
+        sdfc_in(&t.0, &all).expect_code(2);
+    }
+    assert!(!out.exists());
+    if have_device() {
+        let run = sdfc_in(
+            &t.0,
+            &[
+                "render",
+                s(&scene),
+                "-o",
+                s(&out),
+                "--live",
+                "--param",
+                "r=1",
+            ],
+        )
+        .expect_code(1);
+        assert!(run.stderr.contains("no param `r`"), "{}", run.describe());
+    }
+}
+
+/// A `sdfc` process killed when dropped (a watching one never ends by itself).
+struct Watcher(std::process::Child);
+
+impl Drop for Watcher {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Waits until `done` holds of the log's text, failing after two minutes (a cold pipeline
+/// build on a CPU device can take tens of seconds).
+fn wait_for(log: &Path, what: &str, done: impl Fn(&str) -> bool) -> String {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    loop {
+        let text = std::fs::read_to_string(log).unwrap_or_default();
+        if done(&text) {
+            return text;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "timed out waiting for {what}; stderr so far:\n{text}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn watch_renders_each_change_and_keeps_the_picture_through_a_mistake() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("watch");
+    let scene = t.write("s.sdf", SPHERE);
+    let out = t.path("w.png");
+    let log = t.path("stderr.txt");
+    let size = ["--size", "24x16"];
+    let plain = |name: &str, text: &str| {
+        let src = t.write(&format!("{name}.sdf"), text);
+        let png = t.path(&format!("{name}.png"));
+        let mut args = vec!["render", s(&src), "-o", s(&png)];
+        args.extend(size);
+        sdfc_in(&t.0, &args).expect_code(0);
+        read_png(&png)
+    };
+    let (sphere, cube) = (
+        plain("sphere", SPHERE),
+        plain("cube", "scene = box(0.8);\n"),
+    );
+    assert_ne!(sphere, cube);
+
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_sdfc"))
+        .args([
+            "render",
+            s(&scene),
+            "-o",
+            s(&out),
+            "--live",
+            "--watch",
+            "--grace",
+            "0",
+            "--preview-scale",
+            "4",
+        ])
+        .args(size)
+        .env("NO_COLOR", "1")
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let _watcher = Watcher(child);
+    let waits = |n: usize| move |text: &str| text.matches("waiting for a change").count() >= n;
+    wait_for(&log, "the first picture", waits(1));
+    assert_eq!(read_png(&out), sphere);
+
+    // Once the interpreter is warm, an edit is previewed (no grace) before its frame.
+    wait_for(&log, "the interpreter", |t| {
+        t.contains("the interpreter is warm")
+    });
+    std::fs::write(&scene, "scene = box(0.8);\n").unwrap();
+    let text = wait_for(&log, "the edited picture", waits(2));
+    assert_eq!(read_png(&out), cube);
+    let edit = &text[text.find("waiting for a change").unwrap()..];
+    assert!(
+        edit.contains("preview (interpreted, 6x4 enlarged)"),
+        "{text}"
+    );
+
+    // A mistake: reported with its position, the last picture kept, the watch going on.
+    std::fs::write(&scene, BROKEN).unwrap();
+    let text = wait_for(&log, "the diagnostic", waits(3));
+    assert!(text.contains("s.sdf:2:9"), "{text}");
+    assert_eq!(read_png(&out), cube);
+    std::fs::write(&scene, SPHERE).unwrap();
+    let text = wait_for(&log, "the fixed picture", waits(4));
+    assert_eq!(read_png(&out), sphere);
+    assert_eq!(
+        text.matches("final frame (specialised)").count(),
+        3,
+        "{text}"
+    );
+    assert!(!text.contains("panicked"), "{text}");
 }

@@ -23,48 +23,25 @@ const SCENES: [&str; 5] = [
     "fractals",
 ];
 
-/// The image size: `SDFC_BENCH_SIZE=WxH`, else 160x120.
-fn size() -> (u32, u32) {
-    std::env::var("SDFC_BENCH_SIZE")
-        .ok()
-        .and_then(|s| {
-            let (w, h) = s.split_once('x')?;
-            Some((w.parse().ok()?, h.parse().ok()?))
-        })
-        .unwrap_or((160, 120))
-}
-
-fn source(name: &str) -> String {
-    match name {
-        "sphere" => "scene = sphere(1);\n".to_string(),
-        "spec_section10" | "terrain" | "fractals" => {
-            let path = format!("{}/../../examples/{name}.sdf", env!("CARGO_MANIFEST_DIR"));
-            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
-        }
-        "grid_300" => sdfc_tests::grid_scene(300),
-        _ => unreachable!(),
-    }
-}
-
 fn renderer() -> &'static Renderer {
     static R: OnceLock<Renderer> = OnceLock::new();
     R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("cannot render: {e}")))
 }
 
 fn compiled(name: &str) -> sdfc_wgsl::Compiled {
-    sdfc_wgsl::compile(&source(name), &Default::default())
+    sdfc_wgsl::compile(&sdfc_tests::suite_scene(name), &Default::default())
         .unwrap_or_else(|_| panic!("{name} does not compile"))
 }
 
 fn options() -> RenderOptions {
-    let (w, h) = size();
+    let (w, h) = sdfc_tests::bench_size();
     RenderOptions::sized(w, h)
 }
 
 fn main() {
     let r = renderer();
     println!("adapter: {}", r.adapter_description());
-    let (w, h) = size();
+    let (w, h) = sdfc_tests::bench_size();
     println!("image: {w}x{h}");
     println!(
         "{:<16} {:>14} {:>14} {:>12} {:>16} {:>10} {:>22}",

@@ -1,11 +1,9 @@
 //! Opening the device, catching its errors, and the pipeline cache.
 
+use crate::pipelines::{CachedPipeline, Kind, Pipelines};
 use crate::RenderError;
-use std::collections::HashMap;
 use std::fmt;
-use std::hash::{Hash, Hasher};
-use std::panic::AssertUnwindSafe;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 
 /// Which adapter a [`Renderer`] runs on.
@@ -33,22 +31,6 @@ impl fmt::Display for AdapterDescription {
     }
 }
 
-/// Which of the two shader interfaces a pipeline follows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(crate) enum Kind {
-    /// The render shader: entry `main`, uniform + two read-write storage buffers.
-    Render,
-    /// The point-evaluation shader: entry `eval_main`, uniform + read-only + read-write.
-    Eval,
-    /// The interpreted marcher: the render interface plus the read-only bytecode and data.
-    Interpreted,
-}
-
-pub(crate) struct CachedPipeline {
-    wgsl: String,
-    pub(crate) pipeline: wgpu::ComputePipeline,
-}
-
 /// Errors nobody's error scope caught, and device loss, as reported by wgpu's callbacks.
 #[derive(Default)]
 pub(crate) struct ErrorSink {
@@ -62,20 +44,28 @@ pub(crate) struct ErrorSink {
 /// A wgpu device ready to render compiled scenes and evaluate them at points.
 ///
 /// `Renderer` is `Send + Sync`: threads may share one (each call pushes its own error scopes).
-pub struct Renderer {
+/// A clone is cheap and works on the same device, with the same pipeline cache; the device
+/// is closed when the last clone (or background build) is dropped.
+#[derive(Clone)]
+pub struct Renderer(Arc<Shared>);
+
+/// What the clones of a [`Renderer`] share. Public only in name (this module is private, and
+/// every field is the crate's), so that `Renderer` can deref to it.
+#[doc(hidden)]
+pub struct Shared {
     pub(crate) device: wgpu::Device,
     pub(crate) queue: wgpu::Queue,
     pub(crate) limits: wgpu::Limits,
     pub(crate) timestamps: bool,
     description: AdapterDescription,
-    render_layout: wgpu::PipelineLayout,
     pub(crate) render_bind_layout: wgpu::BindGroupLayout,
-    eval_layout: wgpu::PipelineLayout,
     pub(crate) eval_bind_layout: wgpu::BindGroupLayout,
-    interp_layout: wgpu::PipelineLayout,
     pub(crate) interp_bind_layout: wgpu::BindGroupLayout,
-    pipelines: Mutex<HashMap<u64, Vec<Arc<CachedPipeline>>>>,
-    compilations: AtomicUsize,
+    /// Shared with threads that build pipelines in the background (the live path).
+    pub(crate) pipelines: Arc<Pipelines>,
+    /// Whether an interpreted frame has been drawn: the interpreter's pipeline is then
+    /// ready to run at once (see [`Renderer::warm_interpreter`]).
+    pub(crate) interpreter_warm: std::sync::atomic::AtomicBool,
     sink: Arc<ErrorSink>,
 }
 
@@ -210,6 +200,25 @@ fn error_text(e: &wgpu::Error) -> String {
     s
 }
 
+/// Fails if `device` was lost or reported errors nobody's scope caught.
+pub(crate) fn health(device: &wgpu::Device, sink: &ErrorSink) -> Result<(), RenderError> {
+    // Let wgpu run its callbacks, the device-lost one among them, before looking.
+    let _ = device.poll(wgpu::PollType::Poll);
+    if let Some(l) = sink.lost.lock().ok().and_then(|l| l.clone()) {
+        return Err(RenderError::DeviceLost(l));
+    }
+    let errors: Vec<String> = sink
+        .uncaptured
+        .lock()
+        .map(|mut v| std::mem::take(&mut *v))
+        .unwrap_or_default();
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(RenderError::Device(errors.join("; ")))
+    }
+}
+
 impl Renderer {
     /// Opens the best device available (see the crate documentation for the order and
     /// `SDFC_BACKEND`).
@@ -301,22 +310,24 @@ impl Renderer {
         if !errors.is_empty() {
             return Err(RenderError::Device(errors.join("; ")));
         }
-        Ok(Renderer {
+        let device_handle = device.clone();
+        Ok(Renderer(Arc::new(Shared {
             limits: device.limits(),
             device,
             queue,
             timestamps,
             description: describe(info),
-            render_layout,
+            pipelines: Arc::new(Pipelines::new(
+                device_handle,
+                sink.clone(),
+                [render_layout, eval_layout, interp_layout],
+            )),
             render_bind_layout,
-            eval_layout,
             eval_bind_layout,
-            interp_layout,
             interp_bind_layout,
-            pipelines: Mutex::new(HashMap::new()),
-            compilations: AtomicUsize::new(0),
+            interpreter_warm: std::sync::atomic::AtomicBool::new(false),
             sink,
-        })
+        })))
     }
 
     /// The adapter in use: name, backend, device type, driver.
@@ -326,7 +337,7 @@ impl Renderer {
 
     /// How many compute pipelines this renderer has compiled (cache misses).
     pub fn pipeline_compilations(&self) -> usize {
-        self.compilations.load(Ordering::Relaxed)
+        self.pipelines.compilations()
     }
 
     /// Whether the device times its work with timestamp queries ([`crate::Frame::device_time`]).
@@ -350,22 +361,7 @@ impl Renderer {
 
     /// Fails if the device was lost or reported errors nobody's scope caught.
     pub(crate) fn check_health(&self) -> Result<(), RenderError> {
-        // Let wgpu run its callbacks, the device-lost one among them, before looking.
-        let _ = self.device.poll(wgpu::PollType::Poll);
-        if let Some(l) = self.sink.lost.lock().ok().and_then(|l| l.clone()) {
-            return Err(RenderError::DeviceLost(l));
-        }
-        let errors: Vec<String> = self
-            .sink
-            .uncaptured
-            .lock()
-            .map(|mut v| std::mem::take(&mut *v))
-            .unwrap_or_default();
-        if errors.is_empty() {
-            Ok(())
-        } else {
-            Err(RenderError::Device(errors.join("; ")))
-        }
+        health(&self.device, &self.sink)
     }
 
     /// Turns the errors of a piece of device work into a result.
@@ -384,98 +380,20 @@ impl Renderer {
         kind: Kind,
         wgsl: &str,
     ) -> Result<Arc<CachedPipeline>, RenderError> {
-        self.check_health()?;
-        let mut hasher = std::collections::hash_map::DefaultHasher::new();
-        kind.hash(&mut hasher);
-        wgsl.hash(&mut hasher);
-        let key = hasher.finish();
-        // Holding the lock while compiling keeps two threads from compiling the same text.
-        let mut cache = self
-            .pipelines
-            .lock()
-            .map_err(|_| RenderError::Device("the pipeline cache is poisoned".into()))?;
-        if let Some(p) = cache
-            .get(&key)
-            .and_then(|v| v.iter().find(|p| p.wgsl == wgsl))
-        {
-            return Ok(p.clone());
-        }
-        let (layout, entry) = match kind {
-            Kind::Render => (&self.render_layout, "main"),
-            Kind::Eval => (&self.eval_layout, "eval_main"),
-            Kind::Interpreted => (&self.interp_layout, "main"),
-        };
-        self.compilations.fetch_add(1, Ordering::Relaxed);
-        let scopes = Scopes::push(&self.device);
-        let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
-            let module = self
-                .device
-                .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("sdfc scene"),
-                    source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-                });
-            let info = pollster::block_on(module.get_compilation_info());
-            let messages: Vec<(String, String)> = info
-                .messages
-                .iter()
-                .filter(|m| m.message_type == wgpu::CompilationMessageType::Error)
-                .map(|m| {
-                    let text = match &m.location {
-                        Some(l) => {
-                            format!("{}:{}: {}", l.line_number, l.line_position, m.message)
-                        }
-                        None => m.message.clone(),
-                    };
-                    (m.message.clone(), text)
-                })
-                .collect();
-            let pipeline = self
-                .device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("sdfc scene"),
-                    layout: Some(layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
-            (pipeline, messages)
-        }));
-        let mut errors = scopes.pop();
-        let pipeline = match built {
-            Ok((pipeline, messages)) => {
-                // The scopes usually caught the same message already.
-                for (message, text) in messages {
-                    if !errors.iter().any(|e| e.contains(message.trim())) {
-                        errors.push(text);
-                    }
-                }
-                pipeline
-            }
-            Err(panic) => {
-                let what = panic
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_else(|| "a panic in wgpu".into());
-                return Err(RenderError::Shader(what));
-            }
-        };
-        self.check_health()
-            .map_err(|e| RenderError::Shader(e.to_string()))?;
-        if !errors.is_empty() {
-            return Err(RenderError::Shader(errors.join("; ")));
-        }
-        let p = Arc::new(CachedPipeline {
-            wgsl: wgsl.to_string(),
-            pipeline,
-        });
-        cache.entry(key).or_default().push(p.clone());
-        Ok(p)
+        self.pipelines.get(kind, wgsl)
     }
 }
 
-impl Drop for Renderer {
+#[doc(hidden)]
+impl std::ops::Deref for Renderer {
+    type Target = Shared;
+
+    fn deref(&self) -> &Shared {
+        &self.0
+    }
+}
+
+impl Drop for Shared {
     fn drop(&mut self) {
         self.sink.dropping.store(true, Ordering::Relaxed);
     }

@@ -1,6 +1,7 @@
 //! `eval_gpu`: the scene distance at a list of points, through the emitted WGSL.
 
-use crate::device::{Kind, Renderer, Scopes};
+use crate::device::{Renderer, Scopes};
+use crate::pipelines::Kind;
 use crate::render::{read_bytes, readback, storage, upload};
 use crate::{params, RenderError};
 use sdfc_ir::Program;

@@ -2,14 +2,64 @@
 //! as bytecode. The interpreter's pipeline is the same for every scene, so it is compiled
 //! once per [`Renderer`] and a new scene only costs an upload.
 
-use crate::device::{Kind, Renderer};
+use crate::device::Renderer;
+use crate::pipelines::Kind;
 use crate::render::header;
 use crate::{params, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
 use sdfc_wgsl::interp::frame::frame_data;
+use std::sync::atomic::Ordering;
+
+/// The interpreter's WGSL (emitted and validated once per process).
+fn interpreter_wgsl() -> Result<&'static str, RenderError> {
+    sdfc_wgsl::interp::shader().map_err(|f| match f {
+        sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
+        sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
+            "{} diagnostic(s) while emitting the interpreter",
+            d.len()
+        )),
+    })
+}
 
 impl Renderer {
+    /// Makes the interpreter ready to draw at once: builds its pipeline and draws one pixel
+    /// with it, unless an interpreted frame has been drawn already. The pixel matters on
+    /// lavapipe, which compiles a pipeline's machine code at its first dispatch (seconds for
+    /// the interpreter, on the device's one queue thread), not when the pipeline is created.
+    /// A live editor calls this (or [`Renderer::warm_interpreter_in_background`]) at
+    /// start-up, so that its first interpreted frame need not wait.
+    pub fn warm_interpreter(&self) -> Result<(), RenderError> {
+        if self.interpreter_is_warm() {
+            return Ok(());
+        }
+        let sphere = sdfc_wgsl::lower("scene = sphere(1);", &Default::default())
+            .map_err(|_| RenderError::Emit("the warm-up scene does not compile".into()))?;
+        self.render_interpreted(&sphere.stages.program, &RenderOptions::sized(1, 1))
+            .map(|_| ())
+    }
+
+    /// As [`Renderer::warm_interpreter`], on a thread of its own, which may outlive the call
+    /// (it holds a clone of the renderer); returns at once, and calls `done` on that thread
+    /// when the interpreter is warm (or could not be made so).
+    pub fn warm_interpreter_in_background(
+        &self,
+        done: impl FnOnce(Result<(), RenderError>) + Send + 'static,
+    ) {
+        let renderer = self.clone();
+        // Where no thread can start, `done` is dropped uncalled: a live render then goes on
+        // waiting for the specialised pipeline alone.
+        let _ = std::thread::Builder::new()
+            .name("sdfc-interpreter".into())
+            .spawn(move || done(renderer.warm_interpreter()));
+    }
+
+    /// Whether an interpreted frame has been drawn on this device, so that the next one
+    /// needs no pipeline build or machine-code compilation.
+    pub fn interpreter_is_warm(&self) -> bool {
+        self.interpreter_warm.load(Ordering::Relaxed)
+    }
+
     /// Renders a compiled program with the interpreted marcher: the same picture as
     /// [`Renderer::render`] (up to float rounding), without a per-scene shader.
     pub fn render_interpreted(
@@ -33,13 +83,6 @@ impl Renderer {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        let wgsl = sdfc_wgsl::interp::shader().map_err(|f| match f {
-            sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
-            sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
-                "{} diagnostic(s) while emitting the interpreter",
-                d.len()
-            )),
-        })?;
         let data = frame_data(program, code, header(opts), &params);
         let max = self.max_buffer_bytes();
         if data.code.len() as u64 > max || data.data.len() as u64 > max {
@@ -51,8 +94,8 @@ impl Renderer {
                 )),
             ));
         }
-        let pipeline = self.pipeline(Kind::Interpreted, wgsl)?;
-        self.dispatch(
+        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl()?)?;
+        let frame = self.dispatch(
             &pipeline.pipeline,
             &self.interp_bind_layout,
             &data.uniform,
@@ -62,6 +105,8 @@ impl Renderer {
             ],
             opts,
             (gx, gy),
-        )
+        )?;
+        self.interpreter_warm.store(true, Ordering::Relaxed);
+        Ok(frame)
     }
 }

@@ -44,6 +44,18 @@
 //! the scene as bytecode (`sdfc_wgsl::interp`): the pipeline is compiled on the first call
 //! and reused for every scene after it.
 //!
+//! # The live path
+//!
+//! [`Renderer::render_live`] shows a first picture before a slow driver has built the
+//! scene's specialised pipeline: the pipeline is built on another thread, and if it is not
+//! ready within a grace period (none by default), the interpreted marcher draws a small
+//! preview (a quarter of the width and height on a GPU, an eighth on a CPU device, where the
+//! interpreter is 20 to 250 times slower); then the specialised shader draws the final frame. On a CPU device the preview is drawn
+//! only once the interpreter is warm ([`Renderer::warm_interpreter`]): lavapipe compiles it
+//! at its first dispatch, on the device's one queue thread, and the final frame would wait. The pipeline cache builds each text
+//! once and never blocks one pipeline's build on another's. [`LiveReport`] says when each
+//! picture came.
+//!
 //! # Outputs
 //!
 //! [`output`] writes PNG (colour), OpenEXR (32-bit float, ZIP compression: lossless) and NumPy
@@ -53,12 +65,15 @@ mod device;
 mod error;
 mod eval;
 mod interp;
+mod live;
 pub mod output;
 mod params;
+mod pipelines;
 mod render;
 
 pub use device::{AdapterDescription, Renderer};
 pub use error::RenderError;
+pub use live::{Drawn, LiveOptions, LiveReport};
 pub use output::AovKind;
 
 use std::time::Duration;

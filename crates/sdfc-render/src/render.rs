@@ -1,6 +1,7 @@
 //! One frame: uniform, dispatch, readback.
 
-use crate::device::{Kind, Renderer, Scopes};
+use crate::device::{Renderer, Scopes};
+use crate::pipelines::Kind;
 use crate::{params, Aovs, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::Compiled;

@@ -84,11 +84,53 @@ const STACK_BYTES: usize = 256 << 20;
 
 /// Parses, lowers, optimises, emits and validates a scene. Never panics on any input.
 pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
+    on_compiler_stack(|| compile_here(source, opts))
+}
+
+/// As [`compile`], on the calling thread's stack.
+pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
+    let Lowered { stages, warnings } = lower_here(source, opts)?;
+    let wgsl = emit_validated(&stages.program, opts)?;
+    Ok(Compiled {
+        wgsl,
+        stages,
+        warnings,
+    })
+}
+
+/// A scene parsed, lowered and optimised, not yet emitted: what the interpreted marcher
+/// needs (`interp::encode`), and what [`emit_validated`] turns into WGSL.
+pub struct Lowered {
+    pub stages: Stages,
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// The front half of [`compile`]: parses, lowers and optimises. Never panics on any input.
+/// The live path uses it to start the interpreted marcher before the WGSL exists.
+pub fn lower(source: &str, opts: &Options) -> Result<Lowered, Failure> {
+    on_compiler_stack(|| lower_here(source, opts))
+}
+
+fn lower_here(source: &str, opts: &Options) -> Result<Lowered, Failure> {
+    let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
+    let ir = sdfc_ir::IrOptions { cull: opts.cull };
+    let (stages, warnings) = sdfc_ir::compile_with(&file, source.len(), &ir);
+    match stages {
+        Some(stages) => Ok(Lowered { stages, warnings }),
+        None => Err(Failure::Diagnostics(warnings)),
+    }
+}
+
+/// Runs `f` on a thread with the compiler's stack ([`STACK_BYTES`]); a panic in it (a bug)
+/// comes back as an internal error.
+pub fn on_compiler_stack<T: Send>(
+    f: impl FnOnce() -> Result<T, Failure> + Send,
+) -> Result<T, Failure> {
     std::thread::scope(|s| {
         std::thread::Builder::new()
             .name("sdfc-compile".into())
             .stack_size(STACK_BYTES)
-            .spawn_scoped(s, || compile_here(source, opts))
+            .spawn_scoped(s, f)
             .map_err(|e| Failure::Internal {
                 report: format!("could not start the compiler thread: {e}"),
                 wgsl: String::new(),
@@ -100,22 +142,6 @@ pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
                     wgsl: String::new(),
                 })
             })
-    })
-}
-
-/// As [`compile`], on the calling thread's stack.
-pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
-    let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
-    let ir = sdfc_ir::IrOptions { cull: opts.cull };
-    let (stages, diags) = sdfc_ir::compile_with(&file, source.len(), &ir);
-    let Some(stages) = stages else {
-        return Err(Failure::Diagnostics(diags));
-    };
-    let wgsl = emit_validated(&stages.program, opts)?;
-    Ok(Compiled {
-        wgsl,
-        stages,
-        warnings: diags,
     })
 }
 

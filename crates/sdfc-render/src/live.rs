@@ -1,0 +1,352 @@
+//! `render_live`: a first picture as soon as possible. While the scene's specialised shader is
+//! emitted, validated and built into a pipeline on another thread, the interpreted marcher
+//! (one fixed shader, already built for an earlier scene or cached by the driver) draws a
+//! preview; then the specialised shader draws the final frame.
+
+use crate::device::Renderer;
+use crate::{params, Aovs, Frame, RenderError, RenderOptions};
+use sdfc_ir::Program;
+use sdfc_wgsl::interp::encode::{encode, Bytecode};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// The stack of the thread that emits and validates the specialised shader: the compiler's
+/// (deep but bounded scenes never come near its end).
+const BUILDER_STACK_BYTES: usize = 256 << 20;
+
+/// The preview's default scale: a quarter of the width and height on a GPU, an eighth on a
+/// CPU device.
+const PREVIEW_SCALE: u32 = 4;
+const SOFTWARE_PREVIEW_SCALE: u32 = 8;
+
+/// Which shader drew a frame of [`Renderer::render_live`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Drawn {
+    /// The interpreted marcher's preview.
+    Interpreted,
+    /// The scene's specialised shader: the final frame.
+    Specialised,
+}
+
+/// How [`Renderer::render_live`] goes about it.
+#[derive(Clone, Debug)]
+pub struct LiveOptions {
+    /// When the clock starts (when the scene file was read, say): the times of the
+    /// [`LiveReport`] are measured from it.
+    pub start: Instant,
+    /// How long to wait for the specialised pipeline before the interpreter draws a preview:
+    /// zero by default, since the preview is small (see `preview_scale`) and the first
+    /// picture is what the live path is for. On a CPU device the preview is drawn only once
+    /// the interpreter is warm. [`Duration::MAX`] never draws one.
+    pub grace: Duration,
+    /// The preview is drawn at `1 / preview_scale` of the width and height (rounded up) and
+    /// enlarged to the full size, nearest pixel, so that it costs little next to the final
+    /// frame. 1 draws it at full size. `None` chooses by device: 4 on a GPU, 8 on a CPU device
+    /// (whose one queue runs the preview and the final frame one after the other, where the
+    /// interpreter is 20 to 250 times slower than the specialised shader).
+    pub preview_scale: Option<u32>,
+    /// How the specialised shader is emitted (`cull`).
+    pub emit: sdfc_wgsl::Options,
+}
+
+impl Default for LiveOptions {
+    /// The clock started now, no grace, the preview's scale chosen by device.
+    fn default() -> LiveOptions {
+        LiveOptions {
+            start: Instant::now(),
+            grace: Duration::ZERO,
+            preview_scale: None,
+            emit: sdfc_wgsl::Options::default(),
+        }
+    }
+}
+
+impl LiveOptions {
+    /// The preview's scale on `r`'s device: [`LiveOptions::preview_scale`] (at least 1), or
+    /// the device's default.
+    pub fn preview_scale_on(&self, r: &Renderer) -> u32 {
+        self.preview_scale
+            .unwrap_or(if r.adapter_description().software {
+                SOFTWARE_PREVIEW_SCALE
+            } else {
+                PREVIEW_SCALE
+            })
+            .max(1)
+    }
+}
+
+/// When each picture of a live render came, measured from [`LiveOptions::start`].
+#[derive(Clone, Debug)]
+pub struct LiveReport {
+    /// The interpreted preview, when one was drawn: until its pixels were on the CPU.
+    pub interpreted: Option<Duration>,
+    /// Why no preview was drawn although the specialised pipeline was late: the scene is
+    /// beyond the interpreter's limits, say.
+    pub preview_skipped: Option<String>,
+    /// Until the specialised shader started to be emitted (the scene was lowered before the
+    /// call, and the device opened).
+    pub build_started: Duration,
+    /// Until the specialised pipeline was ready (WGSL emitted, validated, pipeline built).
+    pub pipeline_ready: Duration,
+    /// The specialised frame: until its pixels were on the CPU.
+    pub specialised: Duration,
+    /// The specialised shader's WGSL.
+    pub wgsl: String,
+}
+
+impl LiveReport {
+    /// Until the first picture, whichever shader drew it.
+    pub fn first_pixel(&self) -> Duration {
+        self.interpreted
+            .map_or(self.specialised, |i| i.min(self.specialised))
+    }
+}
+
+impl Renderer {
+    /// Renders `program` twice over: the interpreted marcher draws a preview if the
+    /// specialised pipeline is not ready within the grace period, then the specialised shader
+    /// draws the final frame, which is returned. `on_frame` sees each frame as it comes (the
+    /// preview at full size). Errors in the params, the time or the size come before any
+    /// work; a preview the interpreter cannot draw is skipped, with the reason in the report.
+    pub fn render_live(
+        &self,
+        program: &Program,
+        opts: &RenderOptions,
+        live: &LiveOptions,
+        mut on_frame: impl FnMut(Drawn, &Frame),
+    ) -> Result<(Frame, LiveReport), RenderError> {
+        params::values(program, &opts.params)?;
+        params::check_time(opts.time)?;
+        self.check_size(opts.width, opts.height, opts.aovs)?;
+        let grace = live.grace;
+        let build_started = live.start.elapsed();
+        std::thread::scope(|s| {
+            let (tx, rx) = mpsc::channel();
+            let builder = tx.clone();
+            std::thread::Builder::new()
+                .name("sdfc-pipeline".into())
+                .stack_size(BUILDER_STACK_BYTES)
+                .spawn_scoped(s, move || {
+                    let built = self.specialise(program, &live.emit);
+                    let _ = builder.send(Event::Specialised(built, live.start.elapsed()));
+                })
+                .map_err(|e| RenderError::Device(format!("cannot start a thread: {e}")))?;
+            let (mut interpreted, mut preview_skipped) = (None, None);
+            let (built, pipeline_ready) = match rx.recv_timeout(grace) {
+                Ok(Event::Specialised(built, at)) => (built, at),
+                Ok(Event::Interpreter(_)) | Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    return Err(builder_died())
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => match self.interpreter_for(program) {
+                    Err(why) => {
+                        preview_skipped = Some(why);
+                        drop(tx);
+                        specialised(&rx)?
+                    }
+                    Ok(code) => {
+                        // The interpreter warms up on a thread of its own (at once, if it is
+                        // warm already), which may outlive this call: when the specialised
+                        // pipeline is ready first, the final frame does not wait for it.
+                        self.warm_interpreter_in_background(move |r| {
+                            let _ = tx.send(Event::Interpreter(r));
+                        });
+                        loop {
+                            match rx.recv().map_err(|_| builder_died())? {
+                                Event::Specialised(built, at) => {
+                                    if interpreted.is_none() && preview_skipped.is_none() {
+                                        preview_skipped = Some(
+                                            "the specialised pipeline was ready before the \
+                                             interpreter's"
+                                                .into(),
+                                        );
+                                    }
+                                    break (built, at);
+                                }
+                                Event::Interpreter(Ok(())) => {
+                                    match self.preview(program, &code, opts, live) {
+                                        Ok(frame) => {
+                                            interpreted = Some(live.start.elapsed());
+                                            on_frame(Drawn::Interpreted, &frame);
+                                        }
+                                        // Beyond the device's buffers, say: no preview.
+                                        Err(RenderError::Interpreter(e)) => {
+                                            preview_skipped = Some(e.to_string())
+                                        }
+                                        Err(e) => return Err(e),
+                                    }
+                                }
+                                Event::Interpreter(Err(e)) => {
+                                    preview_skipped = Some(format!(
+                                        "the interpreter's pipeline could not be built: {e}"
+                                    ));
+                                }
+                            }
+                        }
+                    }
+                },
+            };
+            let wgsl = built?;
+            let frame = self.render_wgsl(program, &wgsl, opts)?;
+            let specialised = live.start.elapsed();
+            on_frame(Drawn::Specialised, &frame);
+            Ok((
+                frame,
+                LiveReport {
+                    interpreted,
+                    preview_skipped,
+                    build_started,
+                    pipeline_ready,
+                    specialised,
+                    wgsl,
+                },
+            ))
+        })
+    }
+
+    /// Emits and validates the specialised shader and builds its pipeline (into the cache).
+    fn specialise(
+        &self,
+        program: &Program,
+        emit: &sdfc_wgsl::Options,
+    ) -> Result<String, RenderError> {
+        let emit = sdfc_wgsl::Options {
+            lib: false,
+            import_path: None,
+            ..emit.clone()
+        };
+        let wgsl = sdfc_wgsl::emit_validated(program, &emit).map_err(|f| match f {
+            sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
+            sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
+                "{} diagnostic(s) while emitting the scene",
+                d.len()
+            )),
+        })?;
+        // One pixel: lavapipe compiles machine code at a pipeline's first dispatch, and this
+        // way that happens here, before the pipeline is called ready.
+        self.render_wgsl(program, &wgsl, &RenderOptions::sized(1, 1))?;
+        Ok(wgsl)
+    }
+
+    /// The scene's bytecode, or why the interpreter does not draw a preview: the scene is
+    /// beyond its limits, or this is a CPU device where it is not yet warm. There its first
+    /// frame compiles it on the device's one queue thread, for seconds (20 s on lavapipe
+    /// without Mesa's disk cache), and the specialised frame would wait behind it.
+    fn interpreter_for(&self, program: &Program) -> Result<Bytecode, String> {
+        let code = encode(program).map_err(|e| e.to_string())?;
+        if self.adapter_description().software && !self.interpreter_is_warm() {
+            return Err(
+                "on a CPU device the interpreter draws previews only once it is warm \
+                        (`sdfc render --live --watch` warms it at start-up)"
+                    .into(),
+            );
+        }
+        Ok(code)
+    }
+
+    /// The interpreted frame at `1 / preview_scale` of the size, enlarged back to it.
+    fn preview(
+        &self,
+        program: &Program,
+        code: &Bytecode,
+        opts: &RenderOptions,
+        live: &LiveOptions,
+    ) -> Result<Frame, RenderError> {
+        let scale = live.preview_scale_on(self);
+        let small = RenderOptions {
+            width: opts.width.div_ceil(scale),
+            height: opts.height.div_ceil(scale),
+            ..opts.clone()
+        };
+        let frame = self.render_bytecode(program, code, &small)?;
+        Ok(enlarge(&frame, opts.width, opts.height, scale))
+    }
+}
+
+/// What the threads of a live render report.
+enum Event {
+    /// The specialised shader's WGSL (its pipeline in the cache) or why not, and when.
+    Specialised(Result<String, RenderError>, Duration),
+    /// The interpreter's pipeline is in the cache, or why not.
+    Interpreter(Result<(), RenderError>),
+}
+
+/// Waits for the specialised pipeline alone.
+fn specialised(
+    rx: &mpsc::Receiver<Event>,
+) -> Result<(Result<String, RenderError>, Duration), RenderError> {
+    loop {
+        match rx.recv().map_err(|_| builder_died())? {
+            Event::Specialised(built, at) => return Ok((built, at)),
+            Event::Interpreter(_) => {}
+        }
+    }
+}
+
+fn builder_died() -> RenderError {
+    RenderError::Device("the thread building the specialised pipeline stopped".into())
+}
+
+/// `frame` enlarged `scale` times, nearest pixel, and cropped to `width x height`: each
+/// pixel of the result is the one of `frame` it lies in.
+pub(crate) fn enlarge(frame: &Frame, width: u32, height: u32, scale: u32) -> Frame {
+    let src = |x: u32, y: u32| (y / scale) as usize * frame.width as usize + (x / scale) as usize;
+    let n = width as usize * height as usize;
+    let mut rgba = Vec::with_capacity(4 * n);
+    let mut index = Vec::with_capacity(n);
+    for y in 0..height {
+        for x in 0..width {
+            let i = src(x, y);
+            rgba.extend_from_slice(&frame.rgba[4 * i..4 * i + 4]);
+            index.push(i);
+        }
+    }
+    let aovs = frame.aovs.as_ref().map(|a| Aovs {
+        depth: index.iter().map(|&i| a.depth[i]).collect(),
+        normal: index.iter().map(|&i| a.normal[i]).collect(),
+        steps: index.iter().map(|&i| a.steps[i]).collect(),
+    });
+    Frame {
+        width,
+        height,
+        rgba,
+        aovs,
+        device_time: frame.device_time,
+        wall_time: frame.wall_time,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn enlarging_repeats_each_pixel_and_crops() {
+        // A 2x2 frame, pixels numbered 0..4 in red, enlarged 3 times into 5x4.
+        let frame = Frame {
+            width: 2,
+            height: 2,
+            rgba: (0..4u8).flat_map(|i| [i, 0, 0, 255]).collect(),
+            aovs: Some(Aovs {
+                depth: vec![1.0, 2.0, 3.0, f32::INFINITY],
+                normal: vec![[1.0, 0.0, 0.0]; 4],
+                steps: vec![10.0, 20.0, 30.0, 40.0],
+            }),
+            device_time: None,
+            wall_time: Duration::ZERO,
+        };
+        let big = enlarge(&frame, 5, 4, 3);
+        assert_eq!((big.width, big.height), (5, 4));
+        let reds: Vec<u8> = (0..4)
+            .flat_map(|y| (0..5).map(move |x| (x, y)))
+            .map(|(x, y)| big.pixel(x, y)[0])
+            .collect();
+        assert_eq!(
+            reds,
+            [0, 0, 0, 1, 1, 0, 0, 0, 1, 1, 0, 0, 0, 1, 1, 2, 2, 2, 3, 3]
+        );
+        let aovs = big.aovs.unwrap();
+        assert_eq!(aovs.depth[19], f32::INFINITY);
+        assert_eq!(aovs.steps[15], 30.0);
+        assert_eq!(aovs.depth.len(), 20);
+    }
+}

@@ -1,0 +1,178 @@
+//! The pipeline cache: each shader text built into a compute pipeline once, by whichever
+//! thread asks first, without holding up builds of other texts.
+
+use crate::device::{health, ErrorSink, Scopes};
+use crate::RenderError;
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::panic::AssertUnwindSafe;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Which of the two shader interfaces a pipeline follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum Kind {
+    /// The render shader: entry `main`, uniform + two read-write storage buffers.
+    Render,
+    /// The point-evaluation shader: entry `eval_main`, uniform + read-only + read-write.
+    Eval,
+    /// The interpreted marcher: the render interface plus the read-only bytecode and data.
+    Interpreted,
+}
+
+pub(crate) struct CachedPipeline {
+    pub(crate) pipeline: wgpu::ComputePipeline,
+}
+
+/// One shader text's place in the pipeline cache. Its lock is held while the pipeline is
+/// built, so a second thread asking for the same text waits for that build instead of
+/// starting its own, while threads asking for other texts (the interpreter, say, while a
+/// large scene builds in the background) go on.
+struct Slot {
+    kind: Kind,
+    wgsl: String,
+    built: Mutex<Option<Arc<CachedPipeline>>>,
+}
+
+/// The compiled pipelines of one device, by shader text. Shared (in an `Arc`) with threads
+/// that build in the background, which may outlive the call that started them.
+pub(crate) struct Pipelines {
+    device: wgpu::Device,
+    sink: Arc<ErrorSink>,
+    /// The pipeline layouts of [`Kind::Render`], [`Kind::Eval`] and [`Kind::Interpreted`].
+    layouts: [wgpu::PipelineLayout; 3],
+    slots: Mutex<HashMap<u64, Vec<Arc<Slot>>>>,
+    compilations: AtomicUsize,
+}
+
+impl Pipelines {
+    pub(crate) fn new(
+        device: wgpu::Device,
+        sink: Arc<ErrorSink>,
+        layouts: [wgpu::PipelineLayout; 3],
+    ) -> Pipelines {
+        Pipelines {
+            device,
+            sink,
+            layouts,
+            slots: Mutex::new(HashMap::new()),
+            compilations: AtomicUsize::new(0),
+        }
+    }
+
+    /// How many pipelines have been compiled (cache misses).
+    pub(crate) fn compilations(&self) -> usize {
+        self.compilations.load(Ordering::Relaxed)
+    }
+
+    /// The compute pipeline of `wgsl`, compiled on first use and cached by the text's hash.
+    pub(crate) fn get(&self, kind: Kind, wgsl: &str) -> Result<Arc<CachedPipeline>, RenderError> {
+        health(&self.device, &self.sink)?;
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        kind.hash(&mut hasher);
+        wgsl.hash(&mut hasher);
+        let key = hasher.finish();
+        let slot = {
+            let mut cache = self
+                .slots
+                .lock()
+                .map_err(|_| RenderError::Device("the pipeline cache is poisoned".into()))?;
+            let slots = cache.entry(key).or_default();
+            match slots.iter().find(|s| s.kind == kind && s.wgsl == wgsl) {
+                Some(s) => s.clone(),
+                None => {
+                    let s = Arc::new(Slot {
+                        kind,
+                        wgsl: wgsl.to_string(),
+                        built: Mutex::new(None),
+                    });
+                    slots.push(s.clone());
+                    s
+                }
+            }
+        };
+        let mut built = slot
+            .built
+            .lock()
+            .map_err(|_| RenderError::Device("the pipeline cache is poisoned".into()))?;
+        if let Some(p) = built.as_ref() {
+            return Ok(p.clone());
+        }
+        // Nothing built yet, or an earlier build failed: build it (again) here.
+        let p = Arc::new(CachedPipeline {
+            pipeline: self.build(kind, wgsl)?,
+        });
+        *built = Some(p.clone());
+        Ok(p)
+    }
+
+    /// Compiles one compute pipeline, its errors caught.
+    fn build(&self, kind: Kind, wgsl: &str) -> Result<wgpu::ComputePipeline, RenderError> {
+        let (layout, entry) = match kind {
+            Kind::Render => (&self.layouts[0], "main"),
+            Kind::Eval => (&self.layouts[1], "eval_main"),
+            Kind::Interpreted => (&self.layouts[2], "main"),
+        };
+        self.compilations.fetch_add(1, Ordering::Relaxed);
+        let scopes = Scopes::push(&self.device);
+        let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
+            let module = self
+                .device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("sdfc scene"),
+                    source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                });
+            let info = pollster::block_on(module.get_compilation_info());
+            let messages: Vec<(String, String)> = info
+                .messages
+                .iter()
+                .filter(|m| m.message_type == wgpu::CompilationMessageType::Error)
+                .map(|m| {
+                    let text = match &m.location {
+                        Some(l) => {
+                            format!("{}:{}: {}", l.line_number, l.line_position, m.message)
+                        }
+                        None => m.message.clone(),
+                    };
+                    (m.message.clone(), text)
+                })
+                .collect();
+            let pipeline = self
+                .device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("sdfc scene"),
+                    layout: Some(layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+            (pipeline, messages)
+        }));
+        let mut errors = scopes.pop();
+        let pipeline = match built {
+            Ok((pipeline, messages)) => {
+                // The scopes usually caught the same message already.
+                for (message, text) in messages {
+                    if !errors.iter().any(|e| e.contains(message.trim())) {
+                        errors.push(text);
+                    }
+                }
+                pipeline
+            }
+            Err(panic) => {
+                let what = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_else(|| "a panic in wgpu".into());
+                return Err(RenderError::Shader(what));
+            }
+        };
+        health(&self.device, &self.sink).map_err(|e| RenderError::Shader(e.to_string()))?;
+        if !errors.is_empty() {
+            return Err(RenderError::Shader(errors.join("; ")));
+        }
+        Ok(pipeline)
+    }
+}

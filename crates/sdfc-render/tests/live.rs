@@ -1,0 +1,200 @@
+//! The live path (`Renderer::render_live`): the interpreted preview while the specialised
+//! pipeline builds, then the specialised frame; and the pipeline cache it leans on, which
+//! builds each text once and never holds one text's build up behind another's.
+
+mod common;
+
+use common::{compile, renderer};
+use sdfc_render::{Drawn, Frame, LiveOptions, RenderError, RenderOptions, Renderer};
+use std::time::{Duration, Instant};
+
+const SCENE: &str = "param r = 0.8;\n\
+                     light point { position: [3, 4, 2] }\n\
+                     render { shadows: hard }\n\
+                     scene = sphere(r).translate([0.2, 0.1, 0]) | plane([0, 1, 0], 1);\n";
+
+fn live(grace: Duration, preview_scale: u32) -> LiveOptions {
+    LiveOptions {
+        start: Instant::now(),
+        grace,
+        preview_scale: Some(preview_scale),
+        emit: sdfc_wgsl::Options::default(),
+    }
+}
+
+/// Renders live, recording which shader drew each frame and a copy of it.
+fn render_live(
+    r: &Renderer,
+    program: &sdfc_ir::Program,
+    opts: &RenderOptions,
+    live: &LiveOptions,
+) -> Result<(Vec<(Drawn, Frame)>, sdfc_render::LiveReport), RenderError> {
+    let mut frames = Vec::new();
+    let (last, report) = r.render_live(program, opts, live, |drawn, frame| {
+        frames.push((drawn, frame.clone()));
+    })?;
+    assert_eq!(frames.last().map(|f| f.1.rgba.clone()), Some(last.rgba));
+    Ok((frames, report))
+}
+
+#[test]
+fn with_no_grace_the_interpreter_draws_a_preview_then_the_specialised_shader_the_frame() {
+    // A renderer of its own, so that the scene's pipeline is not yet in its cache.
+    let Some(shared) = renderer() else { return };
+    let r = Renderer::new().unwrap();
+    // The interpreter's pipeline built beforehand (as a live editor does at start-up): its
+    // cache hit then comes long before the scene's pipeline is emitted, validated and built.
+    r.warm_interpreter().unwrap();
+    let c = compile("live", SCENE);
+    let opts = RenderOptions {
+        params: vec![("r".into(), vec![0.6])],
+        aovs: true,
+        ..RenderOptions::sized(64, 48)
+    };
+    let (frames, report) = render_live(&r, c.program(), &opts, &live(Duration::ZERO, 2)).unwrap();
+    let kinds: Vec<Drawn> = frames.iter().map(|f| f.0).collect();
+    assert_eq!(
+        kinds,
+        [Drawn::Interpreted, Drawn::Specialised],
+        "{report:?}"
+    );
+    assert_eq!(report.preview_skipped, None);
+    let (preview, last) = (&frames[0].1, &frames[1].1);
+
+    // The preview is the interpreted frame at half the size, each pixel repeated 2x2.
+    let small = shared
+        .render_interpreted(
+            c.program(),
+            &RenderOptions {
+                width: 32,
+                height: 24,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+    assert_eq!((preview.width, preview.height), (64, 48));
+    let small_aovs = small.aovs.as_ref().unwrap();
+    let preview_aovs = preview.aovs.as_ref().unwrap();
+    for y in 0..48 {
+        for x in 0..64 {
+            assert_eq!(
+                preview.pixel(x, y),
+                small.pixel(x / 2, y / 2),
+                "pixel {x},{y}"
+            );
+            let (i, j) = ((y * 64 + x) as usize, ((y / 2) * 32 + x / 2) as usize);
+            assert_eq!(
+                preview_aovs.depth[i].to_bits(),
+                small_aovs.depth[j].to_bits()
+            );
+        }
+    }
+
+    // The final frame is the specialised render, bit for bit, and the report's WGSL its text.
+    let plain = shared.render(&c, &opts).unwrap();
+    assert_eq!(last.rgba, plain.rgba);
+    assert_eq!(last.aovs, plain.aovs);
+    assert_eq!(report.wgsl, c.wgsl);
+    let interpreted = report.interpreted.unwrap();
+    assert!(interpreted <= report.specialised, "{report:?}");
+    assert_eq!(report.first_pixel(), interpreted);
+    assert!(report.build_started <= report.pipeline_ready);
+    assert!(report.pipeline_ready <= report.specialised);
+    // The specialised pipeline was built once, into the cache: rendering again compiles
+    // nothing (the interpreter's pipeline is the other compilation).
+    assert_eq!(r.pipeline_compilations(), 2);
+    r.render(&c, &opts).unwrap();
+    assert_eq!(r.pipeline_compilations(), 2);
+}
+
+#[test]
+fn with_an_endless_grace_only_the_specialised_shader_draws() {
+    let Some(r) = renderer() else { return };
+    let c = compile("live", SCENE);
+    let opts = RenderOptions::sized(40, 30);
+    let (frames, report) = render_live(r, c.program(), &opts, &live(Duration::MAX, 4)).unwrap();
+    assert_eq!(frames.len(), 1);
+    assert_eq!(frames[0].0, Drawn::Specialised);
+    assert_eq!(frames[0].1.rgba, r.render(&c, &opts).unwrap().rgba);
+    assert_eq!(report.interpreted, None);
+    assert_eq!(report.preview_skipped, None);
+    assert_eq!(report.first_pixel(), report.specialised);
+}
+
+#[test]
+fn a_scene_beyond_the_interpreter_still_gets_its_frame() {
+    // More values live at once than the interpreter has registers (as in
+    // sdfc-wgsl/tests/interp.rs): no preview, and the reason why.
+    let Some(r) = renderer() else { return };
+    let n = sdfc_wgsl::interp::encode::MAX_REGISTERS as usize + 8;
+    let terms: Vec<String> = (0..n).map(|i| format!("sin(p.x * {}.5)", i + 1)).collect();
+    let src = format!(
+        "scene = sdf(|p| length(p) - 1 + 0.001 * ({}) + 0.001 * ({}), lipschitz: 2);\n",
+        terms.join(" + "),
+        terms.join(" * ")
+    );
+    let c = compile("too many live values", &src);
+    let opts = RenderOptions::sized(16, 16);
+    let (frames, report) = render_live(r, c.program(), &opts, &live(Duration::ZERO, 1)).unwrap();
+    assert_eq!(frames.len(), 1);
+    assert_eq!(frames[0].0, Drawn::Specialised);
+    assert_eq!(frames[0].1.rgba, r.render(&c, &opts).unwrap().rgba);
+    let why = report.preview_skipped.unwrap();
+    assert!(why.contains("live at once"), "{why}");
+}
+
+#[test]
+fn bad_params_fail_before_any_work() {
+    let Some(r) = renderer() else { return };
+    let c = compile("live", SCENE);
+    let opts = RenderOptions {
+        params: vec![("radius".into(), vec![1.0])],
+        ..RenderOptions::sized(8, 8)
+    };
+    let mut called = false;
+    let got = r.render_live(c.program(), &opts, &live(Duration::ZERO, 1), |_, _| {
+        called = true
+    });
+    assert!(matches!(got, Err(RenderError::Param(_))), "{got:?}");
+    assert!(!called);
+    let empty = RenderOptions::sized(0, 8);
+    let got = r.render_live(c.program(), &empty, &live(Duration::ZERO, 1), |_, _| {});
+    assert!(matches!(got, Err(RenderError::ImageSize(_))), "{got:?}");
+}
+
+#[test]
+fn threads_asking_for_one_shader_at_once_build_it_once() {
+    if renderer().is_none() {
+        return;
+    }
+    let r = Renderer::new().unwrap();
+    let c = compile("live", SCENE);
+    let opts = RenderOptions::sized(8, 8);
+    let frames: Vec<Frame> = std::thread::scope(|s| {
+        let threads: Vec<_> = (0..4).map(|_| s.spawn(|| r.render(&c, &opts))).collect();
+        threads
+            .into_iter()
+            .map(|t| t.join().unwrap().unwrap())
+            .collect()
+    });
+    assert_eq!(r.pipeline_compilations(), 1);
+    assert!(frames.iter().all(|f| f.rgba == frames[0].rgba));
+}
+
+#[test]
+fn the_preview_scale_follows_the_device() {
+    let Some(r) = renderer() else { return };
+    let auto = LiveOptions::default();
+    assert_eq!(auto.grace, Duration::ZERO);
+    let scale = if r.adapter_description().software {
+        8
+    } else {
+        4
+    };
+    assert_eq!(auto.preview_scale_on(r), scale);
+    let chosen = LiveOptions {
+        preview_scale: Some(0),
+        ..LiveOptions::default()
+    };
+    assert_eq!(chosen.preview_scale_on(r), 1, "a scale of 0 is taken as 1");
+}

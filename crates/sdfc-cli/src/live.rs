@@ -46,7 +46,13 @@ pub fn run(r: Request) -> Outcome {
         Err(o) => return o,
     };
     match renderer {
-        Ok(renderer) => draw(&r, &renderer, &lowered.stages.program, start),
+        Ok(renderer) => {
+            let outcome = draw(&r, &renderer, &lowered.stages.program, start);
+            // The interpreter may still be warming up (its preview lost the race): no
+            // thread may be inside the driver when the process ends.
+            renderer.wait_for_background_work();
+            outcome
+        }
         Err(o) => o,
     }
 }
@@ -115,24 +121,35 @@ pub fn draw(r: &Request, renderer: &Renderer, program: &Program, start: Instant)
 }
 
 /// Writes `frame` to `out` through a file beside it renamed over it, so that a viewer
-/// watching `out` never reads half a file.
+/// watching `out` never reads half a file. Whatever fails, the file beside it is removed
+/// and the error names `out`.
 fn replace(out: &Path, frame: &Frame, aov: Option<AovKind>) -> Result<(), RenderError> {
     let name = out
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let partial = out.with_file_name(format!(".sdfc-live-{}-{name}", std::process::id()));
-    match aov {
-        None => output::write_png(&partial, frame)?,
-        Some(kind) => output::write_aov(&partial, frame, kind)?,
+    let partial = out.with_file_name(format!(".sdfc-live.{name}"));
+    let written = match aov {
+        None => output::write_png(&partial, frame),
+        Some(kind) => output::write_aov(&partial, frame, kind),
     }
-    std::fs::rename(&partial, out).map_err(|e| {
-        let _ = std::fs::remove_file(&partial);
-        RenderError::Output {
+    .and_then(|()| {
+        std::fs::rename(&partial, out).map_err(|e| RenderError::Output {
             path: out.to_path_buf(),
             message: e.to_string(),
-        }
-    })
+        })
+    });
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&partial);
+        return Err(match e {
+            RenderError::Output { message, .. } => RenderError::Output {
+                path: out.to_path_buf(),
+                message,
+            },
+            e => e,
+        });
+    }
+    Ok(())
 }
 
 /// `412 ms` or `1.83 s`.

@@ -17,16 +17,6 @@ pub fn run(r: &Request) -> Outcome {
         Ok(r) => r,
         Err(o) => return o,
     };
-    // Built once, now, on a thread of its own: after it, an edit costs the interpreter an
-    // upload and a frame, not a pipeline.
-    let started = Instant::now();
-    renderer.warm_interpreter_in_background(move |warm| match warm {
-        Ok(()) => eprintln!(
-            "sdfc: the interpreter is warm after {:.2?}: previews from now on",
-            started.elapsed()
-        ),
-        Err(e) => eprintln!("sdfc: no previews: the interpreter could not be warmed: {e}"),
-    });
     eprintln!(
         "sdfc: watching {}; each change is rendered into {} (Ctrl-C stops)",
         r.scene.display(),
@@ -34,6 +24,7 @@ pub fn run(r: &Request) -> Outcome {
             .map_or_else(String::new, |o| o.display().to_string())
     );
     let mut last: Option<Vec<u8>> = None;
+    let mut warming = false;
     let mut unreadable = false;
     loop {
         match std::fs::read(r.scene) {
@@ -58,6 +49,13 @@ pub fn run(r: &Request) -> Outcome {
                                 return Outcome::EnvError;
                             }
                         }
+                        if !warming {
+                            // After the first frame, not before: on a CPU device the warm-up
+                            // compiles the interpreter on the device's one queue, and the
+                            // first frame would wait behind it. Later edits get previews.
+                            warming = true;
+                            warm(&renderer);
+                        }
                         eprintln!("sdfc: waiting for a change to {}", r.scene.display());
                     }
                 }
@@ -75,4 +73,17 @@ pub fn run(r: &Request) -> Outcome {
         }
         std::thread::sleep(POLL);
     }
+}
+
+/// Warms the interpreter on a thread of its own: after it, an edit costs the interpreter an
+/// upload and a frame, not a pipeline.
+fn warm(renderer: &sdfc_render::Renderer) {
+    let started = Instant::now();
+    renderer.warm_interpreter_in_background(move |warm| match warm {
+        Ok(()) => eprintln!(
+            "sdfc: the interpreter is warm after {:.2?}: previews from now on",
+            started.elapsed()
+        ),
+        Err(e) => eprintln!("sdfc: no previews: the interpreter could not be warmed: {e}"),
+    });
 }

@@ -889,6 +889,11 @@ fn live_reports_mistakes_as_render_does() {
         )
         .expect_code(1);
         assert!(run.stderr.contains("no param `r`"), "{}", run.describe());
+        // An output that cannot be written: an environment error naming it, nothing left.
+        let missing = t.path("missing").join("o.png");
+        let run = render_in(&t, &scene, &missing, &[&["--live", "--size", "8x8"]]).expect_code(2);
+        assert!(run.stderr.contains("o.png"), "{}", run.describe());
+        assert!(!run.stderr.contains(".sdfc-live"), "{}", run.describe());
     }
 }
 
@@ -962,35 +967,38 @@ fn watch_renders_each_change_and_keeps_the_picture_through_a_mistake() {
         .spawn()
         .unwrap();
     let _watcher = Watcher(child);
-    let waits = |n: usize| move |text: &str| text.matches("waiting for a change").count() >= n;
-    wait_for(&log, "the first picture", waits(1));
+    // Edits replace the file whole (as editors that save atomically do): a poll between a
+    // truncation and a write would render an empty scene.
+    let edit = |text: &str| {
+        let next = t.write("next.sdf.tmp", text);
+        std::fs::rename(next, &scene).unwrap();
+    };
+    let frames = |n: usize| move |t: &str| t.matches("final frame (specialised)").count() >= n;
+    wait_for(&log, "the first picture", frames(1));
     assert_eq!(read_png(&out), sphere);
 
-    // Once the interpreter is warm, an edit is previewed (no grace) before its frame.
+    // Once the interpreter is warm, an edit is previewed (no grace) before its frame: the
+    // warm interpreter is ready in microseconds, the scene's pipeline in milliseconds.
     wait_for(&log, "the interpreter", |t| {
         t.contains("the interpreter is warm")
     });
-    std::fs::write(&scene, "scene = box(0.8);\n").unwrap();
-    let text = wait_for(&log, "the edited picture", waits(2));
+    let before = std::fs::read_to_string(&log).unwrap().len();
+    edit("scene = box(0.8);\n");
+    let text = wait_for(&log, "the edited picture", frames(2));
     assert_eq!(read_png(&out), cube);
-    let edit = &text[text.find("waiting for a change").unwrap()..];
     assert!(
-        edit.contains("preview (interpreted, 6x4 enlarged)"),
+        text[before..].contains("preview (interpreted, 6x4 enlarged)"),
         "{text}"
     );
 
     // A mistake: reported with its position, the last picture kept, the watch going on.
-    std::fs::write(&scene, BROKEN).unwrap();
-    let text = wait_for(&log, "the diagnostic", waits(3));
+    edit(BROKEN);
+    let text = wait_for(&log, "the diagnostic", |t| t.contains("s.sdf: 1 error"));
     assert!(text.contains("s.sdf:2:9"), "{text}");
     assert_eq!(read_png(&out), cube);
-    std::fs::write(&scene, SPHERE).unwrap();
-    let text = wait_for(&log, "the fixed picture", waits(4));
+    edit(SPHERE);
+    let text = wait_for(&log, "the fixed picture", frames(3));
     assert_eq!(read_png(&out), sphere);
-    assert_eq!(
-        text.matches("final frame (specialised)").count(),
-        3,
-        "{text}"
-    );
+    assert_eq!(text.matches("s.sdf: 1 error").count(), 1, "{text}");
     assert!(!text.contains("panicked"), "{text}");
 }

@@ -61,11 +61,13 @@ pub struct Shared {
     pub(crate) render_bind_layout: wgpu::BindGroupLayout,
     pub(crate) eval_bind_layout: wgpu::BindGroupLayout,
     pub(crate) interp_bind_layout: wgpu::BindGroupLayout,
-    /// Shared with threads that build pipelines in the background (the live path).
-    pub(crate) pipelines: Arc<Pipelines>,
+    pub(crate) pipelines: Pipelines,
     /// Whether an interpreted frame has been drawn: the interpreter's pipeline is then
     /// ready to run at once (see [`Renderer::warm_interpreter`]).
     pub(crate) interpreter_warm: std::sync::atomic::AtomicBool,
+    /// Threads working on the device in the background (the interpreter's warm-up), for
+    /// [`Renderer::wait_for_background_work`].
+    pub(crate) background: Mutex<Vec<std::thread::JoinHandle<()>>>,
     sink: Arc<ErrorSink>,
 }
 
@@ -317,17 +319,36 @@ impl Renderer {
             queue,
             timestamps,
             description: describe(info),
-            pipelines: Arc::new(Pipelines::new(
+            pipelines: Pipelines::new(
                 device_handle,
                 sink.clone(),
                 [render_layout, eval_layout, interp_layout],
-            )),
+            ),
             render_bind_layout,
             eval_bind_layout,
             interp_bind_layout,
             interpreter_warm: std::sync::atomic::AtomicBool::new(false),
+            background: Mutex::new(Vec::new()),
             sink,
         })))
+    }
+
+    /// Waits until the work this renderer started in the background (the interpreter's
+    /// warm-up) is done. A program calls this before it exits, so that no thread is inside
+    /// the driver while the process ends.
+    pub fn wait_for_background_work(&self) {
+        loop {
+            let handles: Vec<_> = match self.background.lock() {
+                Ok(mut h) => std::mem::take(&mut *h),
+                Err(_) => return,
+            };
+            if handles.is_empty() {
+                return;
+            }
+            for h in handles {
+                let _ = h.join();
+            }
+        }
     }
 
     /// The adapter in use: name, backend, device type, driver.

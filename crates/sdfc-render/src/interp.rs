@@ -41,17 +41,21 @@ impl Renderer {
 
     /// As [`Renderer::warm_interpreter`], on a thread of its own, which may outlive the call
     /// (it holds a clone of the renderer); returns at once, and calls `done` on that thread
-    /// when the interpreter is warm (or could not be made so).
+    /// when the interpreter is warm (or could not be made so). See
+    /// [`Renderer::wait_for_background_work`].
     pub fn warm_interpreter_in_background(
         &self,
         done: impl FnOnce(Result<(), RenderError>) + Send + 'static,
     ) {
         let renderer = self.clone();
-        // Where no thread can start, `done` is dropped uncalled: a live render then goes on
-        // waiting for the specialised pipeline alone.
-        let _ = std::thread::Builder::new()
+        let spawned = std::thread::Builder::new()
             .name("sdfc-interpreter".into())
             .spawn(move || done(renderer.warm_interpreter()));
+        // Where no thread can start, `done` is dropped uncalled: a live render then goes on
+        // waiting for the specialised pipeline alone.
+        if let (Ok(handle), Ok(mut background)) = (spawned, self.background.lock()) {
+            background.push(handle);
+        }
     }
 
     /// Whether an interpreted frame has been drawn on this device, so that the next one

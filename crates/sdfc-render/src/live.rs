@@ -7,12 +7,9 @@ use crate::device::Renderer;
 use crate::{params, Aovs, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
+use std::panic::AssertUnwindSafe;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
-
-/// The stack of the thread that emits and validates the specialised shader: the compiler's
-/// (deep but bounded scenes never come near its end).
-const BUILDER_STACK_BYTES: usize = 256 << 20;
 
 /// The preview's default scale: a quarter of the width and height on a GPU, an eighth on a
 /// CPU device.
@@ -125,15 +122,24 @@ impl Renderer {
             let builder = tx.clone();
             std::thread::Builder::new()
                 .name("sdfc-pipeline".into())
-                .stack_size(BUILDER_STACK_BYTES)
                 .spawn_scoped(s, move || {
-                    let built = self.specialise(program, &live.emit);
+                    // A panic here (a bug) must not end the caller's scope as a panic.
+                    let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                        self.specialise(program, &live.emit)
+                    }))
+                    .unwrap_or_else(|_| {
+                        Err(RenderError::Emit(
+                            "building the specialised pipeline panicked".into(),
+                        ))
+                    });
                     let _ = builder.send(Event::Specialised(built, live.start.elapsed()));
                 })
                 .map_err(|e| RenderError::Device(format!("cannot start a thread: {e}")))?;
             let (mut interpreted, mut preview_skipped) = (None, None);
             let (built, pipeline_ready) = match rx.recv_timeout(grace) {
                 Ok(Event::Specialised(built, at)) => (built, at),
+                // The interpreter has not been started yet, so only the builder can send;
+                // it always does, unless it could not run at all.
                 Ok(Event::Interpreter(_)) | Err(mpsc::RecvTimeoutError::Disconnected) => {
                     return Err(builder_died())
                 }
@@ -168,11 +174,11 @@ impl Renderer {
                                             interpreted = Some(live.start.elapsed());
                                             on_frame(Drawn::Interpreted, &frame);
                                         }
-                                        // Beyond the device's buffers, say: no preview.
-                                        Err(RenderError::Interpreter(e)) => {
-                                            preview_skipped = Some(e.to_string())
-                                        }
-                                        Err(e) => return Err(e),
+                                        // A lost device ends the render; anything
+                                        // else (the bytecode beyond the device's
+                                        // buffers, say) only costs the preview.
+                                        Err(e @ RenderError::DeviceLost(_)) => return Err(e),
+                                        Err(e) => preview_skipped = Some(e.to_string()),
                                     }
                                 }
                                 Event::Interpreter(Err(e)) => {
@@ -214,8 +220,16 @@ impl Renderer {
             import_path: None,
             ..emit.clone()
         };
-        let wgsl = sdfc_wgsl::emit_validated(program, &emit).map_err(|f| match f {
-            sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
+        // On the compiler's stack, which deep scenes need, as `sdfc_wgsl::compile` runs.
+        let emitted = sdfc_wgsl::on_compiler_stack(|| sdfc_wgsl::emit_validated(program, &emit));
+        let wgsl = emitted.map_err(|f| match f {
+            sdfc_wgsl::Failure::Internal { report, wgsl } if wgsl.is_empty() => {
+                RenderError::Emit(report)
+            }
+            sdfc_wgsl::Failure::Internal { report, wgsl } => RenderError::Emit(format!(
+                "the WGSL emitted for the scene is invalid (a bug in sdfc):\n{report}\n\
+                 --- emitted WGSL ---\n{wgsl}"
+            )),
             sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
                 "{} diagnostic(s) while emitting the scene",
                 d.len()
@@ -236,7 +250,7 @@ impl Renderer {
         if self.adapter_description().software && !self.interpreter_is_warm() {
             return Err(
                 "on a CPU device the interpreter draws previews only once it is warm \
-                        (`sdfc render --live --watch` warms it at start-up)"
+                        (`sdfc render --live --watch` warms it after its first frame)"
                     .into(),
             );
         }

@@ -34,8 +34,8 @@ struct Slot {
     built: Mutex<Option<Arc<CachedPipeline>>>,
 }
 
-/// The compiled pipelines of one device, by shader text. Shared (in an `Arc`) with threads
-/// that build in the background, which may outlive the call that started them.
+/// The compiled pipelines of one device, by shader text. Nothing is evicted: a long
+/// live-editing session keeps one pipeline per version of the scene it rendered.
 pub(crate) struct Pipelines {
     device: wgpu::Device,
     sink: Arc<ErrorSink>,
@@ -91,10 +91,8 @@ impl Pipelines {
                 }
             }
         };
-        let mut built = slot
-            .built
-            .lock()
-            .map_err(|_| RenderError::Device("the pipeline cache is poisoned".into()))?;
+        // A build that panicked poisons the lock but leaves `None`: the next asker builds.
+        let mut built = slot.built.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(p) = built.as_ref() {
             return Ok(p.clone());
         }

@@ -95,11 +95,7 @@ fn with_no_grace_the_interpreter_draws_a_preview_then_the_specialised_shader_the
     assert_eq!(last.rgba, plain.rgba);
     assert_eq!(last.aovs, plain.aovs);
     assert_eq!(report.wgsl, c.wgsl);
-    let interpreted = report.interpreted.unwrap();
-    assert!(interpreted <= report.specialised, "{report:?}");
-    assert_eq!(report.first_pixel(), interpreted);
-    assert!(report.build_started <= report.pipeline_ready);
-    assert!(report.pipeline_ready <= report.specialised);
+    assert_eq!(report.first_pixel(), report.interpreted.unwrap());
     // The specialised pipeline was built once, into the cache: rendering again compiles
     // nothing (the interpreter's pipeline is the other compilation).
     assert_eq!(r.pipeline_compilations(), 2);

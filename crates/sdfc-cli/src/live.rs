@@ -47,7 +47,8 @@ pub fn run(r: Request) -> Outcome {
     };
     match renderer {
         Ok(renderer) => {
-            let outcome = draw(&r, &renderer, &lowered.stages.program, start);
+            let outcome = draw(&r, &renderer, &lowered.stages.program, start, &|| false)
+                .unwrap_or(Outcome::Ok);
             // The interpreter may still be warming up (its preview lost the race): no
             // thread may be inside the driver when the process ends.
             renderer.wait_for_background_work();
@@ -58,11 +59,17 @@ pub fn run(r: Request) -> Outcome {
 }
 
 /// One live render of a lowered scene into the output, with its times on stderr; `start`
-/// is when the scene file was read.
-pub fn draw(r: &Request, renderer: &Renderer, program: &Program, start: Instant) -> Outcome {
+/// is when the scene file was read. `None` where `superseded` said to give up first.
+pub fn draw(
+    r: &Request,
+    renderer: &Renderer,
+    program: &Program,
+    start: Instant,
+    superseded: &dyn Fn() -> bool,
+) -> Option<Outcome> {
     let overrides = match param_overrides(program, r.params) {
         Ok(o) => o,
-        Err(o) => return o,
+        Err(o) => return Some(o),
     };
     let opts = RenderOptions {
         width: r.size.0,
@@ -79,7 +86,7 @@ pub fn draw(r: &Request, renderer: &Renderer, program: &Program, start: Instant)
     };
     let scale = live.preview_scale_on(renderer);
     let mut write_error = None;
-    let rendered = renderer.render_live(program, &opts, &live, |drawn, frame| {
+    let rendered = renderer.render_live_until(program, &opts, &live, superseded, |drawn, frame| {
         if drawn == Drawn::Interpreted {
             eprintln!(
                 "sdfc: preview (interpreted, {}x{} enlarged) after {}; the specialised pipeline is still building",
@@ -93,8 +100,9 @@ pub fn draw(r: &Request, renderer: &Renderer, program: &Program, start: Instant)
         }
     });
     let (_, report) = match rendered {
-        Ok(done) => done,
-        Err(e) => return render_failure(&e),
+        Ok(Some(done)) => done,
+        Ok(None) => return None,
+        Err(e) => return Some(render_failure(&e)),
     };
     if let Some(why) = &report.preview_skipped {
         eprintln!("sdfc: no preview: {why}");
@@ -114,10 +122,10 @@ pub fn draw(r: &Request, renderer: &Renderer, program: &Program, start: Instant)
         seconds(report.build_started),
         seconds(build),
     );
-    match write_error {
+    Some(match write_error {
         None => Outcome::Ok,
         Some(e) => render_failure(&e),
-    }
+    })
 }
 
 /// Writes `frame` to `out` through a file beside it renamed over it, so that a viewer

@@ -1,11 +1,13 @@
 //! `sdfc render --live --watch`: the live-editing loop. One device and one interpreter
 //! pipeline for the whole session; each time the scene file's text changes it is lowered
-//! and rendered live again (preview, then the specialised frame). A mistake in the scene is
-//! reported and the last picture kept.
+//! and rendered live again (preview, then the specialised frame). An edit that comes while
+//! a frame is still building supersedes it. A mistake in the scene is reported and the last
+//! picture kept.
 
 use crate::live::{draw, Request};
 use crate::render::open_renderer;
 use crate::{lower_source, Outcome};
+use std::cell::Cell;
 use std::time::{Duration, Instant};
 
 /// How often the scene file is read for changes: well under the time a person takes to
@@ -41,12 +43,23 @@ pub fn run(r: &Request) -> Outcome {
                     ),
                     Ok(text) => {
                         if let Ok(lowered) = lower_source(r.scene, &text, &r.emit()) {
-                            // Input errors (a param the scene no longer has) wait for the
-                            // next change; the device or the output failing ends the loop.
-                            if let Outcome::EnvError =
-                                draw(r, &renderer, &lowered.stages.program, start)
-                            {
-                                return Outcome::EnvError;
+                            let current = last.as_deref().unwrap_or_default();
+                            let changed = Changed::new(r.scene, current);
+                            let superseded = || changed.since();
+                            match draw(r, &renderer, &lowered.stages.program, start, &superseded) {
+                                // Input errors (a param the scene no longer has) wait for the
+                                // next change; the device or the output failing ends the loop.
+                                Some(Outcome::EnvError) => return Outcome::EnvError,
+                                Some(_) => {}
+                                None => {
+                                    // Edited again before its frame: on to the new version at
+                                    // once (its pipeline goes on building, into the cache).
+                                    eprintln!(
+                                        "sdfc: {} changed before its frame; rendering the new version",
+                                        r.scene.display()
+                                    );
+                                    continue;
+                                }
                             }
                         }
                         if !warming {
@@ -86,4 +99,35 @@ fn warm(renderer: &sdfc_render::Renderer) {
         ),
         Err(e) => eprintln!("sdfc: no previews: the interpreter could not be warmed: {e}"),
     });
+}
+
+/// Whether the scene file has changed from the text being rendered, read at most once per
+/// [`POLL`] however often it is asked.
+struct Changed<'a> {
+    path: &'a std::path::Path,
+    text: &'a [u8],
+    checked: Cell<Instant>,
+    changed: Cell<bool>,
+}
+
+impl<'a> Changed<'a> {
+    fn new(path: &'a std::path::Path, text: &'a [u8]) -> Changed<'a> {
+        Changed {
+            path,
+            text,
+            checked: Cell::new(Instant::now()),
+            changed: Cell::new(false),
+        }
+    }
+
+    fn since(&self) -> bool {
+        if !self.changed.get() && self.checked.get().elapsed() >= POLL {
+            self.checked.set(Instant::now());
+            // An unreadable file (mid-save) is no change yet.
+            let now = std::fs::read(self.path);
+            self.changed
+                .set(now.is_ok_and(|bytes| bytes.as_slice() != self.text));
+        }
+        self.changed.get()
+    }
 }

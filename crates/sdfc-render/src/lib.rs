@@ -54,7 +54,8 @@
 //! only once the interpreter is warm ([`Renderer::warm_interpreter`]): lavapipe compiles it
 //! at its first dispatch, on the device's one queue thread, and the final frame would wait. The pipeline cache builds each text
 //! once and never blocks one pipeline's build on another's. [`LiveReport`] says when each
-//! picture came.
+//! picture came. [`Renderer::render_live_until`] gives up as soon as the scene has changed
+//! again (a live editor's next edit), leaving the build to finish into the cache.
 //!
 //! # Outputs
 //!

@@ -11,6 +11,9 @@ use std::panic::AssertUnwindSafe;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+/// How often a live render asks whether it is superseded while it waits.
+const POLL: Duration = Duration::from_millis(10);
+
 /// The preview's default scale: a quarter of the width and height on a GPU, an eighth on a
 /// CPU device.
 const PREVIEW_SCALE: u32 = 4;
@@ -110,103 +113,138 @@ impl Renderer {
         program: &Program,
         opts: &RenderOptions,
         live: &LiveOptions,
-        mut on_frame: impl FnMut(Drawn, &Frame),
+        on_frame: impl FnMut(Drawn, &Frame),
     ) -> Result<(Frame, LiveReport), RenderError> {
+        self.render_live_until(program, opts, live, || false, on_frame)?
+            .ok_or_else(|| RenderError::Device("a live render gave up unasked".into()))
+    }
+
+    /// As [`Renderer::render_live`], giving up as soon as `superseded` says so (it is asked
+    /// every few milliseconds while the pipeline builds, and before each frame): then
+    /// `Ok(None)` comes back at once. A live editor passes "the scene has changed again". The
+    /// specialised pipeline goes on building on its own thread, into the cache, where a later
+    /// render of the same scene finds it.
+    pub fn render_live_until(
+        &self,
+        program: &Program,
+        opts: &RenderOptions,
+        live: &LiveOptions,
+        superseded: impl Fn() -> bool,
+        mut on_frame: impl FnMut(Drawn, &Frame),
+    ) -> Result<Option<(Frame, LiveReport)>, RenderError> {
         params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         self.check_size(opts.width, opts.height, opts.aovs)?;
-        let grace = live.grace;
         let build_started = live.start.elapsed();
-        std::thread::scope(|s| {
-            let (tx, rx) = mpsc::channel();
-            let builder = tx.clone();
-            std::thread::Builder::new()
-                .name("sdfc-pipeline".into())
-                .spawn_scoped(s, move || {
-                    // A panic here (a bug) must not end the caller's scope as a panic.
-                    let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
-                        self.specialise(program, &live.emit)
-                    }))
-                    .unwrap_or_else(|_| {
-                        Err(RenderError::Emit(
-                            "building the specialised pipeline panicked".into(),
-                        ))
-                    });
-                    let _ = builder.send(Event::Specialised(built, live.start.elapsed()));
-                })
-                .map_err(|e| RenderError::Device(format!("cannot start a thread: {e}")))?;
-            let (mut interpreted, mut preview_skipped) = (None, None);
-            let (built, pipeline_ready) = match rx.recv_timeout(grace) {
-                Ok(Event::Specialised(built, at)) => (built, at),
-                // The interpreter has not been started yet, so only the builder can send;
-                // it always does, unless it could not run at all.
-                Ok(Event::Interpreter(_)) | Err(mpsc::RecvTimeoutError::Disconnected) => {
-                    return Err(builder_died())
-                }
-                Err(mpsc::RecvTimeoutError::Timeout) => match self.interpreter_for(program) {
-                    Err(why) => {
-                        preview_skipped = Some(why);
-                        drop(tx);
-                        specialised(&rx)?
+        let (tx, rx) = mpsc::channel();
+        self.specialise_in_background(program, live, tx.clone())?;
+        // `None`: never (a grace of `Duration::MAX`).
+        let preview_at = Instant::now().checked_add(live.grace);
+        let mut tx = Some(tx);
+        let mut code = None;
+        let (mut interpreted, mut preview_skipped) = (None, None);
+        let (built, pipeline_ready) = loop {
+            if superseded() {
+                return Ok(None);
+            }
+            match rx.recv_timeout(POLL) {
+                Ok(Event::Specialised(built, at)) => {
+                    if code.is_some() && interpreted.is_none() && preview_skipped.is_none() {
+                        preview_skipped = Some(
+                            "the specialised pipeline was ready before the interpreter".into(),
+                        );
                     }
-                    Ok(code) => {
-                        // The interpreter warms up on a thread of its own (at once, if it is
-                        // warm already), which may outlive this call: when the specialised
-                        // pipeline is ready first, the final frame does not wait for it.
-                        self.warm_interpreter_in_background(move |r| {
-                            let _ = tx.send(Event::Interpreter(r));
-                        });
-                        loop {
-                            match rx.recv().map_err(|_| builder_died())? {
-                                Event::Specialised(built, at) => {
-                                    if interpreted.is_none() && preview_skipped.is_none() {
-                                        preview_skipped = Some(
-                                            "the specialised pipeline was ready before the \
-                                             interpreter's"
-                                                .into(),
-                                        );
-                                    }
-                                    break (built, at);
-                                }
-                                Event::Interpreter(Ok(())) => {
-                                    match self.preview(program, &code, opts, live) {
-                                        Ok(frame) => {
-                                            interpreted = Some(live.start.elapsed());
-                                            on_frame(Drawn::Interpreted, &frame);
-                                        }
-                                        // A lost device ends the render; anything
-                                        // else (the bytecode beyond the device's
-                                        // buffers, say) only costs the preview.
-                                        Err(e @ RenderError::DeviceLost(_)) => return Err(e),
-                                        Err(e) => preview_skipped = Some(e.to_string()),
-                                    }
-                                }
-                                Event::Interpreter(Err(e)) => {
-                                    preview_skipped = Some(format!(
-                                        "the interpreter's pipeline could not be built: {e}"
-                                    ));
-                                }
+                    break (built, at);
+                }
+                Ok(Event::Interpreter(Ok(()))) => {
+                    let Some(code) = &code else { continue };
+                    if superseded() {
+                        return Ok(None);
+                    }
+                    match self.preview(program, code, opts, live) {
+                        Ok(frame) => {
+                            interpreted = Some(live.start.elapsed());
+                            on_frame(Drawn::Interpreted, &frame);
+                        }
+                        // A lost device ends the render; anything else (the bytecode beyond
+                        // the device's buffers, say) only costs the preview.
+                        Err(e @ RenderError::DeviceLost(_)) => return Err(e),
+                        Err(e) => preview_skipped = Some(e.to_string()),
+                    }
+                }
+                Ok(Event::Interpreter(Err(e))) => {
+                    preview_skipped = Some(format!("the interpreter could not be warmed: {e}"));
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    let due = preview_at.is_some_and(|at| Instant::now() >= at);
+                    if let (true, Some(tx)) = (due, tx.take()) {
+                        match self.interpreter_for(program) {
+                            Err(why) => preview_skipped = Some(why),
+                            Ok(c) => {
+                                code = Some(c);
+                                // On a thread of its own (at once, if the interpreter is warm
+                                // already): when the specialised pipeline is ready first, the
+                                // final frame does not wait for it.
+                                self.warm_interpreter_in_background(move |r| {
+                                    let _ = tx.send(Event::Interpreter(r));
+                                });
                             }
                         }
                     }
-                },
-            };
-            let wgsl = built?;
-            let frame = self.render_wgsl(program, &wgsl, opts)?;
-            let specialised = live.start.elapsed();
-            on_frame(Drawn::Specialised, &frame);
-            Ok((
-                frame,
-                LiveReport {
-                    interpreted,
-                    preview_skipped,
-                    build_started,
-                    pipeline_ready,
-                    specialised,
-                    wgsl,
-                },
-            ))
-        })
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => return Err(builder_died()),
+            }
+        };
+        let wgsl = built?;
+        if superseded() {
+            return Ok(None);
+        }
+        let frame = self.render_wgsl(program, &wgsl, opts)?;
+        let specialised = live.start.elapsed();
+        on_frame(Drawn::Specialised, &frame);
+        Ok(Some((
+            frame,
+            LiveReport {
+                interpreted,
+                preview_skipped,
+                build_started,
+                pipeline_ready,
+                specialised,
+                wgsl,
+            },
+        )))
+    }
+
+    /// Emits, validates and builds the specialised pipeline on a thread of its own, which
+    /// owns a copy of the program and of the renderer (a superseded live render does not wait
+    /// for it), and reports on `done`.
+    fn specialise_in_background(
+        &self,
+        program: &Program,
+        live: &LiveOptions,
+        done: mpsc::Sender<Event>,
+    ) -> Result<(), RenderError> {
+        let (renderer, program, emit, start) =
+            (self.clone(), program.clone(), live.emit.clone(), live.start);
+        let handle = std::thread::Builder::new()
+            .name("sdfc-pipeline".into())
+            .spawn(move || {
+                // A panic here (a bug) becomes an error, never the caller's panic.
+                let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                    renderer.specialise(&program, &emit)
+                }))
+                .unwrap_or_else(|_| {
+                    Err(RenderError::Emit(
+                        "building the specialised pipeline panicked".into(),
+                    ))
+                });
+                let _ = done.send(Event::Specialised(built, start.elapsed()));
+            })
+            .map_err(|e| RenderError::Device(format!("cannot start a thread: {e}")))?;
+        if let Ok(mut background) = self.background.lock() {
+            background.push(handle);
+        }
+        Ok(())
     }
 
     /// Emits and validates the specialised shader and builds its pipeline (into the cache).
@@ -282,18 +320,6 @@ enum Event {
     Specialised(Result<String, RenderError>, Duration),
     /// The interpreter's pipeline is in the cache, or why not.
     Interpreter(Result<(), RenderError>),
-}
-
-/// Waits for the specialised pipeline alone.
-fn specialised(
-    rx: &mpsc::Receiver<Event>,
-) -> Result<(Result<String, RenderError>, Duration), RenderError> {
-    loop {
-        match rx.recv().map_err(|_| builder_died())? {
-            Event::Specialised(built, at) => return Ok((built, at)),
-            Event::Interpreter(_) => {}
-        }
-    }
 }
 
 fn builder_died() -> RenderError {

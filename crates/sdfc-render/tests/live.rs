@@ -194,3 +194,49 @@ fn the_preview_scale_follows_the_device() {
     };
     assert_eq!(chosen.preview_scale_on(r), 1, "a scale of 0 is taken as 1");
 }
+
+#[test]
+fn a_superseded_render_gives_up_without_its_frames() {
+    let Some(r) = renderer() else { return };
+    let c = compile("live", SCENE);
+    let opts = RenderOptions::sized(16, 12);
+    // Superseded from the start: nothing drawn.
+    let mut frames = 0;
+    let got = r
+        .render_live_until(
+            c.program(),
+            &opts,
+            &live(Duration::ZERO, 1),
+            || true,
+            |_, _| frames += 1,
+        )
+        .unwrap();
+    assert!(got.is_none());
+    assert_eq!(frames, 0);
+
+    // Superseded by the preview itself (as an edit just after it would): no final frame.
+    let fresh = Renderer::new().unwrap();
+    fresh.warm_interpreter().unwrap();
+    let previewed = std::cell::Cell::new(false);
+    let mut drawn = Vec::new();
+    let got = fresh
+        .render_live_until(
+            c.program(),
+            &opts,
+            &live(Duration::ZERO, 2),
+            || previewed.get(),
+            |kind, _| {
+                previewed.set(true);
+                drawn.push(kind);
+            },
+        )
+        .unwrap();
+    assert!(got.is_none());
+    assert_eq!(drawn, [Drawn::Interpreted]);
+    // The given-up pipeline was still built, into the cache: the next render of the scene
+    // compiles nothing.
+    fresh.wait_for_background_work();
+    let compiled = fresh.pipeline_compilations();
+    fresh.render(&c, &opts).unwrap();
+    assert_eq!(fresh.pipeline_compilations(), compiled);
+}

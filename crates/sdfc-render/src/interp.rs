@@ -6,9 +6,10 @@ use crate::device::Renderer;
 use crate::pipelines::Kind;
 use crate::render::header;
 use crate::{params, Frame, RenderError, RenderOptions};
+use sdfc_ir::scene::RenderSettings;
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
-use sdfc_wgsl::interp::frame::frame_data;
+use sdfc_wgsl::interp::frame::frame_data_with;
 use std::sync::atomic::Ordering;
 
 /// The interpreter's WGSL (emitted and validated once per process).
@@ -84,10 +85,22 @@ impl Renderer {
         code: &Bytecode,
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
+        self.render_bytecode_with(program, &program.scene.render, code, opts)
+    }
+
+    /// As [`Renderer::render_bytecode`], with render settings `settings` in place of the
+    /// scene's (the interpreter reads them at run time).
+    pub(crate) fn render_bytecode_with(
+        &self,
+        program: &Program,
+        settings: &RenderSettings,
+        code: &Bytecode,
+        opts: &RenderOptions,
+    ) -> Result<Frame, RenderError> {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        let data = frame_data(program, code, header(opts), &params);
+        let data = frame_data_with(program, settings, code, header(opts), &params);
         let max = self.max_buffer_bytes();
         if data.code.len() as u64 > max || data.data.len() as u64 > max {
             return Err(RenderError::Interpreter(

@@ -7,6 +7,7 @@ use crate::device::Renderer;
 use crate::{params, Aovs, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
+use sdfc_wgsl::interp::frame::preview_settings;
 use std::panic::AssertUnwindSafe;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -177,7 +178,8 @@ impl Renderer {
                 }
                 Err(mpsc::RecvTimeoutError::Timeout) => {
                     let due = preview_at.is_some_and(|at| Instant::now() >= at);
-                    if let (true, Some(tx)) = (due, tx.take()) {
+                    // `take` only once due: the sender is the interpreter's to report on.
+                    if let Some(tx) = tx.take_if(|_| due) {
                         match self.interpreter_for(program) {
                             Err(why) => preview_skipped = Some(why),
                             Ok(c) => {
@@ -295,7 +297,9 @@ impl Renderer {
         Ok(code)
     }
 
-    /// The interpreted frame at `1 / preview_scale` of the size, enlarged back to it.
+    /// The interpreted frame at `1 / preview_scale` of the size, enlarged back to it, in
+    /// direct light only (`preview_settings`: no shadows, ambient occlusion, reflections or
+    /// antialiasing, which multiply the distance evaluations per pixel).
     fn preview(
         &self,
         program: &Program,
@@ -309,7 +313,8 @@ impl Renderer {
             height: opts.height.div_ceil(scale),
             ..opts.clone()
         };
-        let frame = self.render_bytecode(program, code, &small)?;
+        let settings = preview_settings(&program.scene.render);
+        let frame = self.render_bytecode_with(program, &settings, code, &small)?;
         Ok(enlarge(&frame, opts.width, opts.height, scale))
     }
 }

@@ -61,17 +61,19 @@ fn with_no_grace_the_interpreter_draws_a_preview_then_the_specialised_shader_the
     assert_eq!(report.preview_skipped, None);
     let (preview, last) = (&frames[0].1, &frames[1].1);
 
-    // The preview is the interpreted frame at half the size, each pixel repeated 2x2.
+    // The preview is the interpreted frame at half the size, each pixel repeated 2x2, in
+    // direct light only: the scene without its shadows.
+    let half = RenderOptions {
+        width: 32,
+        height: 24,
+        ..opts.clone()
+    };
+    let unshadowed = compile("live", &SCENE.replace("render { shadows: hard }\n", ""));
     let small = shared
-        .render_interpreted(
-            c.program(),
-            &RenderOptions {
-                width: 32,
-                height: 24,
-                ..opts.clone()
-            },
-        )
+        .render_interpreted(unshadowed.program(), &half)
         .unwrap();
+    let shadowed = shared.render_interpreted(c.program(), &half).unwrap();
+    assert_ne!(small.rgba, shadowed.rgba, "the shadow is visible");
     assert_eq!((preview.width, preview.height), (64, 48));
     let small_aovs = small.aovs.as_ref().unwrap();
     let preview_aovs = preview.aovs.as_ref().unwrap();
@@ -239,4 +241,26 @@ fn a_superseded_render_gives_up_without_its_frames() {
     let compiled = fresh.pipeline_compilations();
     fresh.render(&c, &opts).unwrap();
     assert_eq!(fresh.pipeline_compilations(), compiled);
+}
+
+#[test]
+fn a_grace_delays_the_preview_and_does_not_lose_it() {
+    // A grace of 30 ms (longer than the live path's poll) against a 300-shape grid, whose
+    // pipeline (WGSL emitted and validated twice, built, a pixel drawn) takes far longer
+    // than that: the preview is started after the grace, and drawn.
+    if renderer().is_none() {
+        return;
+    }
+    let r = Renderer::new().unwrap();
+    r.warm_interpreter().unwrap();
+    let c = compile("grid", &sdfc_tests::grid_scene(300));
+    let opts = RenderOptions::sized(16, 12);
+    let (frames, report) =
+        render_live(&r, c.program(), &opts, &live(Duration::from_millis(30), 4)).unwrap();
+    let kinds: Vec<Drawn> = frames.iter().map(|f| f.0).collect();
+    assert_eq!(
+        kinds,
+        [Drawn::Interpreted, Drawn::Specialised],
+        "{report:?}"
+    );
 }

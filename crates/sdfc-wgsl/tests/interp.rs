@@ -148,3 +148,22 @@ fn too_many_live_values_is_a_clean_error() {
         Err(e) => panic!("{e}"),
     }
 }
+
+#[test]
+fn the_preview_keeps_the_primary_ray_and_drops_the_secondary_ones() {
+    let p = program(
+        "render { shadows: soft(8), ao: ao(samples: 4, step: 0.1), reflections: 2, antialias: 3,
+                  fog: fog(0.05, [0.6, 0.7, 0.8]), max_steps: 300, normals: central }
+         scene = sphere(1);\n",
+    );
+    let r = &p.scene.render;
+    let preview = sdfc_wgsl::interp::frame::preview_settings(r);
+    assert_eq!(preview.shadows, sdfc_ir::scene::Shadows::None);
+    assert_eq!(preview.ao, None);
+    assert_eq!((preview.reflections, preview.antialias), (0, 1));
+    // What the primary ray and its shading need stays.
+    assert_eq!(preview.fog, r.fog);
+    assert_eq!(preview.max_steps, 300);
+    assert_eq!(preview.normals, r.normals);
+    assert_eq!(preview.epsilon, r.epsilon);
+}

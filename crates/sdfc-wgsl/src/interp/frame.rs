@@ -5,7 +5,7 @@
 
 use super::encode::Bytecode;
 use crate::marcher::{camera_basis, root_bounds, span_slabs};
-use sdfc_ir::scene::{Epsilon, LightKind, Normals, Shadows};
+use sdfc_ir::scene::{Epsilon, LightKind, Normals, RenderSettings, Shadows};
 use sdfc_ir::types::Ty;
 use sdfc_ir::Program;
 
@@ -53,8 +53,32 @@ pub fn frame_data(
     header: [u32; 4],
     params: &[[f32; 4]],
 ) -> FrameData {
+    frame_data_with(program, &program.scene.render, code, header, params)
+}
+
+/// The render settings of a quick preview: the scene's, less what costs many distance
+/// evaluations per pixel beyond the primary ray (shadow rays, ambient occlusion,
+/// reflections, antialiasing). The preview of the live path uses them: a first picture of
+/// the shapes and their colours in direct light.
+pub fn preview_settings(r: &RenderSettings) -> RenderSettings {
+    RenderSettings {
+        shadows: Shadows::None,
+        ao: None,
+        reflections: 0,
+        antialias: 1,
+        ..r.clone()
+    }
+}
+
+/// As [`frame_data`], with render settings `r` in place of the scene's.
+pub fn frame_data_with(
+    program: &Program,
+    r: &RenderSettings,
+    code: &Bytecode,
+    header: [u32; 4],
+    params: &[[f32; 4]],
+) -> FrameData {
     let scene = &program.scene;
-    let r = &scene.render;
     let (forward, right, up, tan_half) = camera_basis(scene);
 
     // Data buffer: lights (2 entries each), params, constants.

@@ -47,8 +47,9 @@ pub fn run(r: Request) -> Outcome {
     };
     match renderer {
         Ok(renderer) => {
+            // Never superseded here, so always an outcome.
             let outcome = draw(&r, &renderer, &lowered.stages.program, start, &|| false)
-                .unwrap_or(Outcome::Ok);
+                .unwrap_or(Outcome::EnvError);
             // The interpreter may still be warming up (its preview lost the race): no
             // thread may be inside the driver when the process ends.
             renderer.wait_for_background_work();
@@ -101,7 +102,8 @@ pub fn draw(
     });
     let (_, report) = match rendered {
         Ok(Some(done)) => done,
-        Ok(None) => return None,
+        // Superseded; but an output that could not be written still ends the loop.
+        Ok(None) => return write_error.map(|e| render_failure(&e)),
         Err(e) => return Some(render_failure(&e)),
     };
     if let Some(why) = &report.preview_skipped {

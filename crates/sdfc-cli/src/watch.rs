@@ -7,7 +7,7 @@
 use crate::live::{draw, Request};
 use crate::render::open_renderer;
 use crate::{lower_source, Outcome};
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::time::{Duration, Instant};
 
 /// How often the scene file is read for changes: well under the time a person takes to
@@ -44,12 +44,15 @@ pub fn run(r: &Request) -> Outcome {
                     Ok(text) => {
                         if let Ok(lowered) = lower_source(r.scene, &text, &r.emit()) {
                             let current = last.as_deref().unwrap_or_default();
-                            let changed = Changed::new(r.scene, current);
+                            let changed = Changed::new(r.scene, current, r.emit());
                             let superseded = || changed.since();
                             match draw(r, &renderer, &lowered.stages.program, start, &superseded) {
                                 // Input errors (a param the scene no longer has) wait for the
                                 // next change; the device or the output failing ends the loop.
-                                Some(Outcome::EnvError) => return Outcome::EnvError,
+                                Some(Outcome::EnvError) => {
+                                    renderer.wait_for_background_work();
+                                    return Outcome::EnvError;
+                                }
                                 Some(_) => {}
                                 None => {
                                     // Edited again before its frame: on to the new version at
@@ -101,33 +104,48 @@ fn warm(renderer: &sdfc_render::Renderer) {
     });
 }
 
-/// Whether the scene file has changed from the text being rendered, read at most once per
-/// [`POLL`] however often it is asked.
+/// Whether the scene file has changed from the text being rendered into a text that
+/// compiles: a save half made, or a mistake, does not stop the frame of the last good
+/// version. The file is read at most once per [`POLL`] however often this is asked, and
+/// each new text lowered once.
 struct Changed<'a> {
     path: &'a std::path::Path,
     text: &'a [u8],
+    emit: sdfc_wgsl::Options,
     checked: Cell<Instant>,
-    changed: Cell<bool>,
+    /// The last text read that differs from `text`, and whether it lowers.
+    seen: RefCell<Option<(Vec<u8>, bool)>>,
 }
 
 impl<'a> Changed<'a> {
-    fn new(path: &'a std::path::Path, text: &'a [u8]) -> Changed<'a> {
+    fn new(path: &'a std::path::Path, text: &'a [u8], emit: sdfc_wgsl::Options) -> Changed<'a> {
         Changed {
             path,
             text,
+            emit,
             checked: Cell::new(Instant::now()),
-            changed: Cell::new(false),
+            seen: RefCell::new(None),
         }
     }
 
     fn since(&self) -> bool {
-        if !self.changed.get() && self.checked.get().elapsed() >= POLL {
-            self.checked.set(Instant::now());
-            // An unreadable file (mid-save) is no change yet.
-            let now = std::fs::read(self.path);
-            self.changed
-                .set(now.is_ok_and(|bytes| bytes.as_slice() != self.text));
+        let good = |seen: &Option<(Vec<u8>, bool)>| seen.as_ref().is_some_and(|s| s.1);
+        if good(&self.seen.borrow()) || self.checked.get().elapsed() < POLL {
+            return good(&self.seen.borrow());
         }
-        self.changed.get()
+        self.checked.set(Instant::now());
+        // An unreadable file (mid-save) is no change yet.
+        let Ok(bytes) = std::fs::read(self.path) else {
+            return false;
+        };
+        if bytes.as_slice() == self.text
+            || self.seen.borrow().as_ref().is_some_and(|s| s.0 == bytes)
+        {
+            return false;
+        }
+        let lowers = std::str::from_utf8(&bytes)
+            .is_ok_and(|text| sdfc_wgsl::lower(text, &self.emit).is_ok());
+        *self.seen.borrow_mut() = Some((bytes, lowers));
+        lowers
     }
 }

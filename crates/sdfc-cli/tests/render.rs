@@ -1000,5 +1000,15 @@ fn watch_renders_each_change_and_keeps_the_picture_through_a_mistake() {
     let text = wait_for(&log, "the fixed picture", frames(3));
     assert_eq!(read_png(&out), sphere);
     assert_eq!(text.matches("s.sdf: 1 error").count(), 1, "{text}");
+
+    // An edit while a large scene's frame is still building: the frame may be given up for
+    // the new version or finished first, but the file ends as the new version's picture.
+    edit(&sdfc_tests::grid_scene(300));
+    std::thread::sleep(std::time::Duration::from_millis(30));
+    edit("scene = box(0.8);\n");
+    let text = wait_for(&log, "the picture after a superseding edit", |t| {
+        t.matches("final frame (specialised)").count() >= 4 && read_png(&out) == cube
+    });
+    assert!(!text.contains("panicked"), "{text}");
     assert!(!text.contains("panicked"), "{text}");
 }

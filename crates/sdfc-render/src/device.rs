@@ -351,6 +351,16 @@ impl Renderer {
         }
     }
 
+    /// Keeps a background thread's handle for [`Renderer::wait_for_background_work`],
+    /// dropping those of threads that have finished (a long live-editing session starts
+    /// threads without end).
+    pub(crate) fn keep_in_background(&self, handle: std::thread::JoinHandle<()>) {
+        if let Ok(mut background) = self.background.lock() {
+            background.retain(|h| !h.is_finished());
+            background.push(handle);
+        }
+    }
+
     /// The adapter in use: name, backend, device type, driver.
     pub fn adapter_description(&self) -> &AdapterDescription {
         &self.description

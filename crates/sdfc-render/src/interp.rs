@@ -54,8 +54,8 @@ impl Renderer {
             .spawn(move || done(renderer.warm_interpreter()));
         // Where no thread can start, `done` is dropped uncalled: a live render then goes on
         // waiting for the specialised pipeline alone.
-        if let (Ok(handle), Ok(mut background)) = (spawned, self.background.lock()) {
-            background.push(handle);
+        if let Ok(handle) = spawned {
+            self.keep_in_background(handle);
         }
     }
 

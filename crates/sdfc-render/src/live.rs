@@ -9,7 +9,8 @@ use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
 use sdfc_wgsl::interp::frame::preview_settings;
 use std::panic::AssertUnwindSafe;
-use std::sync::mpsc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 /// How often a live render asks whether it is superseded while it waits.
@@ -122,9 +123,9 @@ impl Renderer {
 
     /// As [`Renderer::render_live`], giving up as soon as `superseded` says so (it is asked
     /// every few milliseconds while the pipeline builds, and before each frame): then
-    /// `Ok(None)` comes back at once. A live editor passes "the scene has changed again". The
-    /// specialised pipeline goes on building on its own thread, into the cache, where a later
-    /// render of the same scene finds it.
+    /// `Ok(None)` comes back at once. A live editor passes "the scene has changed again". A
+    /// pipeline build already begun goes on, on its own thread, into the cache, where a later
+    /// render of the same scene finds it; one not yet begun is skipped.
     pub fn render_live_until(
         &self,
         program: &Program,
@@ -138,7 +139,10 @@ impl Renderer {
         self.check_size(opts.width, opts.height, opts.aovs)?;
         let build_started = live.start.elapsed();
         let (tx, rx) = mpsc::channel();
-        self.specialise_in_background(program, live, tx.clone())?;
+        // Set when this render gives up: the builder then skips the pipeline build if it
+        // has not begun it (a burst of edits would otherwise build every version).
+        let abandoned = Arc::new(AtomicBool::new(false));
+        self.specialise_in_background(program, live, tx.clone(), abandoned.clone())?;
         // `None`: never (a grace of `Duration::MAX`).
         let preview_at = Instant::now().checked_add(live.grace);
         let mut tx = Some(tx);
@@ -146,9 +150,30 @@ impl Renderer {
         let (mut interpreted, mut preview_skipped) = (None, None);
         let (built, pipeline_ready) = loop {
             if superseded() {
+                abandoned.store(true, Ordering::Relaxed);
                 return Ok(None);
             }
-            match rx.recv_timeout(POLL) {
+            // The interpreter starts as soon as the grace is over, not a poll later.
+            let now = Instant::now();
+            if let Some(tx) = tx.take_if(|_| preview_at.is_some_and(|at| now >= at)) {
+                match self.interpreter_for(program) {
+                    Err(why) => preview_skipped = Some(why),
+                    Ok(c) => {
+                        code = Some(c);
+                        // On a thread of its own (at once, if the interpreter is warm
+                        // already): when the specialised pipeline is ready first, the final
+                        // frame does not wait for it.
+                        self.warm_interpreter_in_background(move |r| {
+                            let _ = tx.send(Event::Interpreter(r));
+                        });
+                    }
+                }
+            }
+            let wait = match (&tx, preview_at) {
+                (Some(_), Some(at)) => at.saturating_duration_since(now).min(POLL),
+                _ => POLL,
+            };
+            match rx.recv_timeout(wait) {
                 Ok(Event::Specialised(built, at)) => {
                     if code.is_some() && interpreted.is_none() && preview_skipped.is_none() {
                         preview_skipped = Some(
@@ -160,6 +185,7 @@ impl Renderer {
                 Ok(Event::Interpreter(Ok(()))) => {
                     let Some(code) = &code else { continue };
                     if superseded() {
+                        abandoned.store(true, Ordering::Relaxed);
                         return Ok(None);
                     }
                     match self.preview(program, code, opts, live) {
@@ -176,24 +202,7 @@ impl Renderer {
                 Ok(Event::Interpreter(Err(e))) => {
                     preview_skipped = Some(format!("the interpreter could not be warmed: {e}"));
                 }
-                Err(mpsc::RecvTimeoutError::Timeout) => {
-                    let due = preview_at.is_some_and(|at| Instant::now() >= at);
-                    // `take` only once due: the sender is the interpreter's to report on.
-                    if let Some(tx) = tx.take_if(|_| due) {
-                        match self.interpreter_for(program) {
-                            Err(why) => preview_skipped = Some(why),
-                            Ok(c) => {
-                                code = Some(c);
-                                // On a thread of its own (at once, if the interpreter is warm
-                                // already): when the specialised pipeline is ready first, the
-                                // final frame does not wait for it.
-                                self.warm_interpreter_in_background(move |r| {
-                                    let _ = tx.send(Event::Interpreter(r));
-                                });
-                            }
-                        }
-                    }
-                }
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => return Err(builder_died()),
             }
         };
@@ -225,6 +234,7 @@ impl Renderer {
         program: &Program,
         live: &LiveOptions,
         done: mpsc::Sender<Event>,
+        abandoned: Arc<AtomicBool>,
     ) -> Result<(), RenderError> {
         let (renderer, program, emit, start) =
             (self.clone(), program.clone(), live.emit.clone(), live.start);
@@ -233,7 +243,7 @@ impl Renderer {
             .spawn(move || {
                 // A panic here (a bug) becomes an error, never the caller's panic.
                 let built = std::panic::catch_unwind(AssertUnwindSafe(|| {
-                    renderer.specialise(&program, &emit)
+                    renderer.specialise(&program, &emit, &abandoned)
                 }))
                 .unwrap_or_else(|_| {
                     Err(RenderError::Emit(
@@ -243,17 +253,17 @@ impl Renderer {
                 let _ = done.send(Event::Specialised(built, start.elapsed()));
             })
             .map_err(|e| RenderError::Device(format!("cannot start a thread: {e}")))?;
-        if let Ok(mut background) = self.background.lock() {
-            background.push(handle);
-        }
+        self.keep_in_background(handle);
         Ok(())
     }
 
-    /// Emits and validates the specialised shader and builds its pipeline (into the cache).
+    /// Emits and validates the specialised shader and builds its pipeline (into the cache),
+    /// unless the render was `abandoned` by then.
     fn specialise(
         &self,
         program: &Program,
         emit: &sdfc_wgsl::Options,
+        abandoned: &AtomicBool,
     ) -> Result<String, RenderError> {
         let emit = sdfc_wgsl::Options {
             lib: false,
@@ -275,6 +285,9 @@ impl Renderer {
                 d.len()
             )),
         })?;
+        if abandoned.load(Ordering::Relaxed) {
+            return Ok(wgsl);
+        }
         // One pixel: lavapipe compiles machine code at a pipeline's first dispatch, and this
         // way that happens here, before the pipeline is called ready.
         self.render_wgsl(program, &wgsl, &RenderOptions::sized(1, 1))?;

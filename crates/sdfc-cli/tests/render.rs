@@ -56,6 +56,19 @@ fn render_in(t: &TempDir, scene: &Path, out: &Path, options: &[&[&str]]) -> Run 
     sdfc_in(&t.0, &args)
 }
 
+/// The options of [`sphere_rendered_plainly`]'s render: a small odd size, a param set.
+const SPHERE_OPTIONS: &[&str] = &["--size", "33x25", "--param", "r=1.5"];
+
+/// A directory holding [`PARAM_SPHERE`] as `s.sdf` and its specialised render with
+/// [`SPHERE_OPTIONS`] as `plain.png`: what the other ways of rendering are compared with.
+fn sphere_rendered_plainly(name: &str) -> (TempDir, std::path::PathBuf, std::path::PathBuf) {
+    let t = TempDir::new(name);
+    let scene = t.write("s.sdf", PARAM_SPHERE);
+    let plain = t.path("plain.png");
+    render_in(&t, &scene, &plain, &[SPHERE_OPTIONS]).expect_code(0);
+    (t, scene, plain)
+}
+
 fn read_png(path: &Path) -> image::RgbaImage {
     image::open(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -148,13 +161,8 @@ fn interpreted_renders_the_same_picture() {
     if !have_device() {
         return;
     }
-    let t = TempDir::new("interp");
-    let scene = t.write("s.sdf", PARAM_SPHERE);
-    let plain = t.path("plain.png");
-    let interp = t.path("interp.png");
-    let depth = t.path("depth.npy");
-    let size: &[&str] = &["--size", "33x25", "--param", "r=1.5"];
-    render_in(&t, &scene, &plain, &[size]).expect_code(0);
+    let (t, scene, plain) = sphere_rendered_plainly("interp");
+    let (interp, depth, size) = (t.path("interp.png"), t.path("depth.npy"), SPHERE_OPTIONS);
     render_in(&t, &scene, &interp, &[size, &["--interpreted"]]).expect_code(0);
     let (a, b) = (read_png(&plain), read_png(&interp));
     assert_eq!(a.dimensions(), (33, 25));
@@ -810,13 +818,8 @@ fn live_writes_the_specialised_picture_and_says_when() {
     if !have_device() {
         return;
     }
-    let t = TempDir::new("live");
-    let scene = t.write("s.sdf", PARAM_SPHERE);
-    let plain = t.path("plain.png");
-    let live = t.path("live.png");
-    let depth = t.path("depth.npy");
-    let size: &[&str] = &["--size", "33x25", "--param", "r=1.5"];
-    render_in(&t, &scene, &plain, &[size]).expect_code(0);
+    let (t, scene, plain) = sphere_rendered_plainly("live");
+    let (live, depth, size) = (t.path("live.png"), t.path("depth.npy"), SPHERE_OPTIONS);
     // No grace: the interpreter's preview is drawn if it is ready before the scene's
     // pipeline (on a CPU device, only once warm, which a one-off render never is); either
     // way the file ends as the specialised picture.

@@ -654,44 +654,59 @@ fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
 /// Maps virtual registers to physical ones (reused after their value's last read), appends
 /// the instructions to `code`; returns how many registers they use.
 fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> {
-    let mut last_use: HashMap<u32, usize> = HashMap::new();
+    // Virtual registers are small dense numbers: tables indexed by them, not maps.
+    const NONE: u32 = u32::MAX;
+    let virtuals = ins
+        .iter()
+        .flat_map(|x| x.dst.iter().chain(&x.args))
+        .max()
+        .map_or(0, |&v| v as usize)
+        .max(POINT as usize)
+        + 1;
+    let mut last_use = vec![usize::MAX; virtuals];
     for (i, x) in ins.iter().enumerate() {
         for &a in &x.args {
-            last_use.insert(a, i);
+            last_use[a as usize] = i;
         }
     }
-    let mut phys: HashMap<u32, u32> = HashMap::from([(POINT, POINT)]);
-    let mut free: BTreeSet<u32> = BTreeSet::new();
+    let mut phys = vec![NONE; virtuals];
+    phys[POINT as usize] = POINT;
+    // The free physical registers as bits; the lowest is taken first. 128 bits: a register
+    // numbered MAX_REGISTERS may be taken (and freed) just before the check fails.
+    let mut free: u128 = 0;
     let mut used = POINT + 1;
     for (i, x) in ins.iter().enumerate() {
         let mut args = [0u32; 4];
         for (slot, a) in args.iter_mut().zip(&x.args) {
-            *slot = *phys
-                .get(a)
-                .ok_or_else(|| unsupported("a register read before it is written"))?;
+            *slot = match phys[*a as usize] {
+                NONE => return Err(unsupported("a register read before it is written")),
+                p => p,
+            };
         }
         // Arguments read for the last time free their registers before the result takes
         // one: the interpreter reads every argument before it writes.
         for a in &x.args {
-            if *a != POINT && last_use.get(a) == Some(&i) {
-                if let Some(p) = phys.remove(a) {
-                    free.insert(p);
+            if *a != POINT && last_use[*a as usize] == i {
+                let p = std::mem::replace(&mut phys[*a as usize], NONE);
+                if p != NONE {
+                    free |= 1 << p;
                 }
             }
         }
         let dst = match x.dst {
             Some(v) => {
-                let p = match free.pop_first() {
-                    Some(p) => p,
-                    None => {
-                        used += 1;
-                        used - 1
-                    }
-                };
-                if last_use.contains_key(&v) {
-                    phys.insert(v, p);
+                let p = if free != 0 {
+                    let p = free.trailing_zeros();
+                    free &= free - 1;
+                    p
                 } else {
-                    free.insert(p);
+                    used += 1;
+                    used - 1
+                };
+                if last_use[v as usize] != usize::MAX {
+                    phys[v as usize] = p;
+                } else {
+                    free |= 1 << p;
                 }
                 p
             }

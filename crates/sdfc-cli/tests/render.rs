@@ -940,9 +940,7 @@ fn watch_renders_each_change_and_keeps_the_picture_through_a_mistake() {
     let plain = |name: &str, text: &str| {
         let src = t.write(&format!("{name}.sdf"), text);
         let png = t.path(&format!("{name}.png"));
-        let mut args = vec!["render", s(&src), "-o", s(&png)];
-        args.extend(size);
-        sdfc_in(&t.0, &args).expect_code(0);
+        render_in(&t, &src, &png, &[&size]).expect_code(0);
         read_png(&png)
     };
     let (sphere, cube) = (

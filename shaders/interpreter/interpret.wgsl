@@ -1,9 +1,10 @@
 // The register machine. Instruction i is code[i] = (opcode, dst | imm << 16, a0 | a1 << 16,
 // a2 | a3 << 16); registers are vec4<f32>, a scalar splatted in all four lanes, a boolean
-// as 1.0 / 0.0; register 0 holds the point. The last instruction of a range is `ret`,
-// whose first two arguments are the results: it is read after the loop rather than
-// returned from inside the switch, which keeps the loop free of early exits (lavapipe
-// miscompiled that form for some lanes of a divergent workgroup).
+// as 1.0 / 0.0; register 0 holds the point. Code runs straight on, except where a culled
+// union's part is skipped (`OP_SKIP_UNLESS_LESS`, forward only). The last instruction of a
+// range is `ret`, whose first two arguments are the results: it is read after the loop
+// rather than returned from inside the switch, which keeps the loop free of early exits
+// (lavapipe miscompiled that form for some lanes of a divergent workgroup).
 struct Outputs {
     a: vec4<f32>,
     b: vec4<f32>,
@@ -28,6 +29,9 @@ fn interpret(range: vec2<u32>, p: vec3<f32>) -> Outputs {
             case OP_CONST: { r = data[frame.consts_at + imm]; }
             case OP_PARAM: { r = data[frame.params_at + imm]; }
             case OP_TIME: { r = vec4<f32>(frame.time); }
+            // Writes nothing new: its destination is register 0, rewritten with itself.
+            case OP_SKIP_UNLESS_LESS: { if !(a.x < b.x) { pc = pc + imm; } r = regs[dst]; }
+            case OP_MOV: { r = a; }
             case OP_NEG: { r = -a; }
             case OP_ADD: { r = a + b; }
             case OP_SUB: { r = a - b; }

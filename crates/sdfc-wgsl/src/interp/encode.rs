@@ -11,7 +11,7 @@
 use super::opcodes::{builtin_opcode, helper_opcode, Opcode};
 use sdfc_ir::func::Func;
 use sdfc_ir::graph::{Graph, NodeId};
-use sdfc_ir::ops::{Builtin, Op};
+use sdfc_ir::ops::{Builtin, Op, NO_BEST};
 use sdfc_ir::types::Ty;
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
@@ -83,6 +83,14 @@ enum Val {
     /// rotation shared by shapes far apart in a union would otherwise hold three registers
     /// all the way between them.
     MatLoad([u32; 3]),
+}
+
+/// What a function's `Op::Point` and `Op::Best` stand for where it is inlined.
+#[derive(Clone, Copy, Debug)]
+struct Inputs {
+    point: Val,
+    /// `None`: no best distance to stop at (`NO_BEST`, loaded where it is read).
+    best: Option<Val>,
 }
 
 /// A load is reused while it is at most this many instructions old, else loaded again.
@@ -168,13 +176,18 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     };
     let mut code = Vec::new();
     let mut registers = 1;
+    // Outside a culled part there is no caller's best distance to stop at.
+    let top = Inputs {
+        point: Val::Reg(POINT),
+        best: None,
+    };
 
     let mut chunk = Chunk::new();
     let d = e.func(
         &mut chunk,
         &program.distance,
         &program.distance.results,
-        Val::Reg(POINT),
+        top,
         0,
     )?;
     let d = reg(d[0], "the distance")?;
@@ -193,7 +206,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         &mut chunk,
         &program.material,
         &program.material.results,
-        Val::Reg(POINT),
+        top,
         0,
     )?;
     if m.len() != 2 {
@@ -291,7 +304,7 @@ impl Encoder<'_> {
         c: &mut Chunk,
         f: &Func,
         results: &[NodeId],
-        point: Val,
+        inputs: Inputs,
         depth: usize,
     ) -> Result<Vec<Val>, EncodeError> {
         if depth > MAX_INLINE_DEPTH {
@@ -315,17 +328,18 @@ impl Encoder<'_> {
                 }
             }
         }
-        // Which results each (group, point) call site needs, so a group is inlined once.
-        let mut wanted: BTreeMap<(u32, NodeId), BTreeSet<u8>> = BTreeMap::new();
+        // Which results each call site (group, point and any guard) needs, so a group is
+        // inlined once per site.
+        let mut wanted: BTreeMap<(u32, &[NodeId]), BTreeSet<u8>> = BTreeMap::new();
         for (id, node) in g.nodes() {
             if let (true, Op::Call { func, result }) = (live[id.index()], node.op) {
                 wanted
-                    .entry((func, node.args()[0]))
+                    .entry((func, node.args()))
                     .or_default()
                     .insert(result);
             }
         }
-        let mut inlined: BTreeMap<(u32, NodeId), BTreeMap<u8, Val>> = BTreeMap::new();
+        let mut inlined: BTreeMap<(u32, &[NodeId]), BTreeMap<u8, Val>> = BTreeMap::new();
         let mut vals: Vec<Option<Val>> = vec![None; g.len()];
         for id in schedule(g, results) {
             let node = g.node(id);
@@ -336,7 +350,7 @@ impl Encoder<'_> {
             }
             let v = match node.op {
                 Op::Call { func, result } => {
-                    let key = (func, node.args()[0]);
+                    let key = (func, node.args());
                     if let std::collections::btree_map::Entry::Vacant(slot) = inlined.entry(key) {
                         let Some(group) = self.program.groups.get(func as usize) else {
                             return Err(unsupported(format!("a call of missing group {func}")));
@@ -349,12 +363,29 @@ impl Encoder<'_> {
                             };
                             nodes.push(n);
                         }
-                        let out = self.func(c, group, &nodes, args[0], depth + 1)?;
+                        let out = match args[..] {
+                            // A culled union's part: run only where its box is nearer than
+                            // the best distance so far, and handed that best.
+                            [point, bound, best] => {
+                                let inputs = Inputs {
+                                    point,
+                                    best: Some(best),
+                                };
+                                self.guarded(c, group, &nodes, &want, inputs, bound, depth + 1)?
+                            }
+                            _ => {
+                                let inputs = Inputs {
+                                    point: args[0],
+                                    best: None,
+                                };
+                                self.func(c, group, &nodes, inputs, depth + 1)?
+                            }
+                        };
                         slot.insert(want.into_iter().zip(out).collect());
                     }
                     inlined[&key][&result]
                 }
-                _ => self.node(c, g, id, &args, point)?,
+                _ => self.node(c, g, id, &args, inputs)?,
             };
             vals[id.index()] = Some(v);
         }
@@ -366,6 +397,68 @@ impl Encoder<'_> {
         Ok(out)
     }
 
+    /// A culled union's part, inlined behind a skip: its results are set to the skipped
+    /// call's (the box's distance `bound`, zero albedo and phong), then, unless `bound` is
+    /// below `inputs.best`, the part's code runs and overwrites them. As the WGSL emitter's
+    /// `if bound < best { s = group(p, best) }`.
+    #[allow(clippy::too_many_arguments)]
+    fn guarded(
+        &mut self,
+        c: &mut Chunk,
+        group: &Func,
+        nodes: &[NodeId],
+        want: &[u8],
+        inputs: Inputs,
+        bound: Val,
+        depth: usize,
+    ) -> Result<Vec<Val>, EncodeError> {
+        let bound = reg(bound, "a part's bound")?;
+        let best = match inputs.best {
+            Some(v) => v,
+            None => self.load_const(&Value::F(NO_BEST))?,
+        };
+        let best = reg(c.materialize(best), "the best distance")?;
+        let zero = self.load_const(&Value::V4([0.0; 4]))?;
+        let mut results = Vec::with_capacity(want.len());
+        for &r in want {
+            let skipped = match r {
+                0 => bound,
+                _ => reg(c.materialize(zero), "zero")?,
+            };
+            results.push(c.emit(Opcode::Mov, &[skipped], 0));
+        }
+        let skip = c.ins.len();
+        c.ins.push(VIns {
+            op: Opcode::SkipUnlessLess,
+            dst: None,
+            args: vec![bound, best],
+            imm: 0,
+        });
+        let inputs = Inputs {
+            point: inputs.point,
+            best: Some(Val::Reg(best)),
+        };
+        let out = self.func(c, group, nodes, inputs, depth)?;
+        for (&dst, v) in results.iter().zip(out) {
+            let v = reg(c.materialize(v), "a part's result")?;
+            c.ins.push(VIns {
+                op: Opcode::Mov,
+                dst: Some(dst),
+                args: vec![v],
+                imm: 0,
+            });
+        }
+        // A load inside the part is not made where it was skipped.
+        c.loads.clear();
+        // The offset is a 16-bit immediate; a longer part is run wherever it is reached
+        // (its value then is its own, which is also a lower bound: never below its box's).
+        let len = c.ins.len() - skip - 1;
+        if len <= 0xffff {
+            c.ins[skip].imm = len as u32;
+        }
+        Ok(results.into_iter().map(Val::Reg).collect())
+    }
+
     /// One node (other than a call).
     fn node(
         &mut self,
@@ -373,7 +466,7 @@ impl Encoder<'_> {
         g: &Graph,
         id: NodeId,
         a: &[Val],
-        point: Val,
+        inputs: Inputs,
     ) -> Result<Val, EncodeError> {
         let node = g.node(id);
         let arg_ty = |i: usize| g.ty(node.args()[i]);
@@ -386,10 +479,13 @@ impl Encoder<'_> {
         };
         match node.op {
             Op::Const(k) => self.load_const(&k.to_value()),
-            Op::Point => Ok(point),
+            Op::Point => Ok(inputs.point),
             Op::Time => Ok(Val::Load(Opcode::Time, 0)),
-            // Groups are inlined and evaluated whole: no caller's best to stop at.
-            Op::Best => self.load_const(&sdfc_ir::value::Value::F(sdfc_ir::ops::NO_BEST)),
+            // The caller's best distance (`NO_BEST` outside a culled part).
+            Op::Best => match inputs.best {
+                Some(v) => Ok(v),
+                None => self.load_const(&Value::F(NO_BEST)),
+            },
             Op::Param(i) => Ok(Val::Load(Opcode::Param, u32::from(i))),
             // As in the WGSL emitter: only reachable if a lambda argument escaped substitution.
             Op::LambdaArg { .. } => self.load_const(&sdfc_ir::eval::zero_of(node.ty)),
@@ -694,6 +790,9 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
             }
         }
         let dst = match x.dst {
+            // Written again (a culled part's result, after the part's code): the register
+            // it already has.
+            Some(v) if phys[v as usize] != NONE => phys[v as usize],
             Some(v) => {
                 let p = if free != 0 {
                     let p = free.trailing_zeros();
@@ -764,9 +863,10 @@ impl Bytecode {
                             .collect::<String>()
                     ),
                     Opcode::MatRow => format!(" row {imm}"),
+                    Opcode::SkipUnlessLess => format!(" to {}", pc + 1 + imm),
                     _ => String::new(),
                 };
-                let lhs = if *op == Opcode::Ret {
+                let lhs = if matches!(op, Opcode::Ret | Opcode::SkipUnlessLess) {
                     String::new()
                 } else {
                     format!("r{dst} = ")
@@ -788,7 +888,7 @@ fn arity(op: Opcode) -> usize {
         Ret => 2,
         Neg | Swizzle | Abs | Sign | Floor | Ceil | Fract | Round | Sqrt | Exp | Log | Sin
         | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4
-        | Normalize2 | Normalize3 | Normalize4 | Noise | NoiseGradient => 1,
+        | Normalize2 | Normalize3 | Normalize4 | Noise | NoiseGradient | Mov => 1,
         Select | Clamp | Mix | Smoothstep | MatRow | SdRoundBox | SdTorus | SdCylinder
         | RotateX | RotateY | RotateZ | SdBoxFrame | SdHexPrism | SdTriPrism => 3,
         MakeVec | Mat3Vec | SdCapsule | SdCappedTorus | SdCappedCone | SdMandelbulb
@@ -804,12 +904,20 @@ mod tests {
     /// Every register an instruction reads was written earlier in the same function (or is
     /// the point, register 0): the shader's register file holds whatever an earlier call left
     /// in it, so a read before a write would make the result depend on the lane's history.
-    fn reads_only_written_registers(name: &str, src: &str) {
-        let c = crate::compile(src, &crate::Options::default()).unwrap();
+    /// A skipped part's code may not run: after it, only what was written before its skip
+    /// counts as written.
+    fn reads_only_written_registers(name: &str, src: &str, cull: bool) {
+        let opts = crate::Options {
+            cull,
+            ..Default::default()
+        };
+        let c = crate::compile(src, &opts).unwrap();
         let code = encode(c.program()).unwrap();
         for (func, [start, end]) in [("distance", code.distance), ("material", code.material)] {
             let mut written = vec![false; MAX_REGISTERS as usize];
             written[0] = true;
+            // (last instruction a skip jumps over, what was written before the skip)
+            let mut skipped: Vec<(u32, Vec<bool>)> = Vec::new();
             for pc in start..end {
                 let [op, d, a01, a23] = code.code[pc as usize];
                 let op = *Opcode::ALL.iter().find(|o| o.code() == op).unwrap();
@@ -825,7 +933,19 @@ mod tests {
                 if op != Opcode::Ret {
                     written[(d & 0xffff) as usize] = true;
                 }
+                if op == Opcode::SkipUnlessLess && d >> 16 > 0 {
+                    let last = pc + (d >> 16);
+                    assert!(
+                        last < end - 1 && skipped.last().is_none_or(|s| last <= s.0),
+                        "{name}: the skip at {pc} leaves its part"
+                    );
+                    skipped.push((last, written.clone()));
+                }
+                while skipped.last().is_some_and(|s| s.0 == pc) {
+                    written = skipped.pop().unwrap().1;
+                }
             }
+            assert!(skipped.is_empty(), "{name}: a skip past the end");
         }
     }
 
@@ -851,6 +971,54 @@ mod tests {
         }
     }
 
+    /// A culled union of 120 shapes in three kinds and materials, two levels of parts.
+    fn culled_grid() -> String {
+        let mut s = String::from(
+            "material red { color: [0.9, 0.2, 0.1] }\nmaterial blue { color: [0.1, 0.2, 0.9] }\nscene = union(\n",
+        );
+        for i in 0..120 {
+            let (x, y, z) = (i % 5, (i / 5) % 5, i / 25);
+            let shape = match i % 3 {
+                0 => "sphere(0.4).material(red)".to_string(),
+                1 => format!("box([0.3, 0.4, 0.3]).rotate_y({i}deg)"),
+                _ => format!("torus(0.3, 0.1).rotate_x({i}deg).material(blue)"),
+            };
+            s += &format!("  {shape}.translate([{x}, {y}, {z}]),\n");
+        }
+        s + ");\n"
+    }
+
+    #[test]
+    fn a_culled_union_skips_its_parts_and_reads_only_written_registers() {
+        let src = culled_grid();
+        reads_only_written_registers("culled grid", &src, true);
+        let opts = crate::Options {
+            cull: true,
+            ..Default::default()
+        };
+        let code = encode(crate::compile(&src, &opts).unwrap().program()).unwrap();
+        let skips: Vec<u32> = code
+            .code
+            .iter()
+            .filter(|c| c[0] == Opcode::SkipUnlessLess.code())
+            .map(|c| c[1] >> 16)
+            .collect();
+        // Eight parts of at most 15 shapes split again into parts of fewer than 8, in the
+        // distance function and in the material function.
+        assert!(
+            skips.len() >= 2 * 8,
+            "{} skips\n{}",
+            skips.len(),
+            code.listing()
+        );
+        assert!(skips.iter().all(|&n| n > 0), "a part too long to skip");
+        let plain = encode(crate::compile(&src, &Default::default()).unwrap().program()).unwrap();
+        assert!(!plain
+            .code
+            .iter()
+            .any(|c| c[0] == Opcode::SkipUnlessLess.code()));
+    }
+
     #[test]
     fn no_register_is_read_before_it_is_written() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -867,7 +1035,9 @@ mod tests {
         assert!(paths.len() > 20, "the scenes are missing");
         for p in paths {
             let src = std::fs::read_to_string(&p).unwrap();
-            reads_only_written_registers(&p.display().to_string(), &src);
+            for cull in [false, true] {
+                reads_only_written_registers(&p.display().to_string(), &src, cull);
+            }
         }
     }
 }

@@ -24,6 +24,7 @@
 //! plain radiance, so one shader covers every setting.
 
 pub mod encode;
+pub mod exec;
 pub mod frame;
 pub mod opcodes;
 

@@ -41,6 +41,11 @@ opcodes! {
     Const = 1, "OP_CONST", "const";
     Param = 2, "OP_PARAM", "param";
     Time = 3, "OP_TIME", "time";
+    // A culled union's early-out: unless a.x < b.x (the part's box is nearer than the best
+    // distance so far), jump over the next `imm` instructions (the part's inlined code).
+    SkipUnlessLess = 4, "OP_SKIP_UNLESS_LESS", "skip_unless_less";
+    // A copy: a skipped part's results are written before the skip and again after it.
+    Mov = 5, "OP_MOV", "mov";
     // Arithmetic and comparisons (component-wise; scalars are kept splatted).
     Neg = 10, "OP_NEG", "neg";
     Add = 11, "OP_ADD", "add";

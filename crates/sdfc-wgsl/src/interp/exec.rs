@@ -1,0 +1,229 @@
+//! The interpreter's register machine on the CPU, in f32: what `interpret.wgsl` computes for
+//! one lane, for tests that check the encoder without a device (bytecode against the IR's
+//! own evaluator) and for telling an encoder fault from a driver's.
+//!
+//! Component-wise opcodes run on all four lanes; built-ins and distance helpers go through
+//! `sdfc_ir::eval::apply`, with the argument swizzles (`a.xyz`, `b.x`, ...) read from the
+//! helper's `case` line in the shader, so the two cannot drift apart.
+
+use super::encode::{Bytecode, MAX_REGISTERS};
+use super::opcodes::{builtin_opcode, helper_opcode, Opcode};
+use super::INTERPRET;
+use sdfc_ir::eval::apply;
+use sdfc_ir::ops::{Builtin, Helper, Op};
+use sdfc_ir::types::Ty;
+use sdfc_ir::value::Value;
+
+/// One of the two functions of a program.
+#[derive(Clone, Copy, Debug)]
+pub enum Function {
+    Distance,
+    Material,
+}
+
+/// Runs `function` of `code` at point `p` with the params' values (`vec4` each, as the data
+/// buffer holds them) and the time; returns the `ret`'s two registers (the distance in the
+/// first's `x`; the albedo and phong vectors for the material). An opcode this executor
+/// does not know is an error.
+pub fn run(
+    code: &Bytecode,
+    function: Function,
+    p: [f32; 3],
+    params: &[[f32; 4]],
+    time: f32,
+) -> Result<[[f32; 4]; 2], String> {
+    let [start, end] = match function {
+        Function::Distance => code.distance,
+        Function::Material => code.material,
+    };
+    let mut regs = [[0f32; 4]; MAX_REGISTERS as usize];
+    regs[0] = [p[0], p[1], p[2], 0.0];
+    let last = end.checked_sub(1).ok_or("an empty function")?;
+    let mut pc = start;
+    while pc < last {
+        let [op, y, z, w] = code.code[pc as usize];
+        let (dst, imm) = ((y & 0xffff) as usize, y >> 16);
+        let reg = |i: u32| {
+            regs.get(i as usize)
+                .copied()
+                .ok_or("a register out of range")
+        };
+        let (a, b, c, d) = (
+            reg(z & 0xffff)?,
+            reg(z >> 16)?,
+            reg(w & 0xffff)?,
+            reg(w >> 16)?,
+        );
+        let op = Opcode::ALL
+            .iter()
+            .copied()
+            .find(|o| o.code() == op)
+            .ok_or_else(|| format!("unknown opcode {op} at {pc}"))?;
+        let r = execute(op, imm, [a, b, c, d], code, params, time)
+            .ok_or_else(|| format!("{} at {pc}", op.mnemonic()))?;
+        // `!(a < b)`, as the shader says it: NaN skips too.
+        let less = a[0].partial_cmp(&b[0]) == Some(std::cmp::Ordering::Less);
+        if op == Opcode::SkipUnlessLess && !less {
+            pc += imm;
+        }
+        *regs.get_mut(dst).ok_or("a destination out of range")? = r.unwrap_or(regs[dst]);
+        pc += 1;
+    }
+    let [_, _, z, _] = code.code[last as usize];
+    Ok([regs[(z & 0xffff) as usize], regs[(z >> 16) as usize]])
+}
+
+fn map(a: [f32; 4], f: impl Fn(f32) -> f32) -> [f32; 4] {
+    a.map(f)
+}
+
+fn zip(a: [f32; 4], b: [f32; 4], f: impl Fn(f32, f32) -> f32) -> [f32; 4] {
+    [0, 1, 2, 3].map(|i| f(a[i], b[i]))
+}
+
+fn splat(x: f32) -> [f32; 4] {
+    [x; 4]
+}
+
+fn truth(b: bool) -> f32 {
+    if b {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// One instruction's result (`Some(None)`: it writes its destination back unchanged), or
+/// `None` for an opcode this executor cannot run.
+fn execute(
+    op: Opcode,
+    imm: u32,
+    [a, b, c, d]: [[f32; 4]; 4],
+    code: &Bytecode,
+    params: &[[f32; 4]],
+    time: f32,
+) -> Option<Option<[f32; 4]>> {
+    use Opcode as O;
+    let r = match op {
+        O::Ret | O::SkipUnlessLess => return Some(None),
+        O::Const => *code.consts.get(imm as usize)?,
+        O::Param => *params.get(imm as usize)?,
+        O::Time => splat(time),
+        O::Mov => a,
+        O::Neg => map(a, |x| -x),
+        O::Add => zip(a, b, |x, y| x + y),
+        O::Sub => zip(a, b, |x, y| x - y),
+        O::Mul => zip(a, b, |x, y| x * y),
+        O::Div => zip(a, b, |x, y| x / y),
+        O::Mod => zip(a, b, |x, y| x - y * (x / y).floor()),
+        O::Lt => zip(a, b, |x, y| truth(x < y)),
+        O::Le => zip(a, b, |x, y| truth(x <= y)),
+        O::Gt => zip(a, b, |x, y| truth(x > y)),
+        O::Ge => zip(a, b, |x, y| truth(x >= y)),
+        O::Eq => zip(a, b, |x, y| truth(x == y)),
+        O::Ne => zip(a, b, |x, y| truth(x != y)),
+        O::Select => {
+            if c[0] != 0.0 {
+                b
+            } else {
+                a
+            }
+        }
+        O::MakeVec => [a[0], b[0], c[0], d[0]],
+        O::Swizzle => [0, 1, 2, 3].map(|i| a[((imm >> (2 * i)) & 3) as usize]),
+        O::Mat3Vec => [0, 1, 2, 3].map(|i| {
+            if i < 3 {
+                a[i] * d[0] + b[i] * d[1] + c[i] * d[2]
+            } else {
+                0.0
+            }
+        }),
+        O::MatRow => [
+            a[imm as usize & 3],
+            b[imm as usize & 3],
+            c[imm as usize & 3],
+            0.0,
+        ],
+        O::Length2 => splat(len(&a[..2])),
+        O::Length3 => splat(len(&a[..3])),
+        O::Length4 => splat(len(&a)),
+        O::Dot2 => splat(dot(&a[..2], &b[..2])),
+        O::Dot3 => splat(dot(&a[..3], &b[..3])),
+        O::Dot4 => splat(dot(&a, &b)),
+        O::Normalize2 => normalized(a, 2),
+        O::Normalize3 => normalized(a, 3),
+        O::Normalize4 => normalized(a, 4),
+        O::Cross => [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+            0.0,
+        ],
+        _ => {
+            if let Some(&h) = Helper::ALL.iter().find(|h| helper_opcode(**h) == Some(op)) {
+                helper(op, h, [a, b, c, d])?
+            } else {
+                let &bi = Builtin::ALL
+                    .iter()
+                    .find(|b| builtin_opcode(**b) == Some(op))?;
+                let args = [a, b, c].map(Value::V4);
+                let n = builtin_arity(bi);
+                match apply(Op::Builtin(bi), Ty::Vec4, &args[..n]) {
+                    Value::V4(v) => v,
+                    Value::F(x) => splat(x),
+                    _ => return None,
+                }
+            }
+        }
+    };
+    Some(Some(r))
+}
+
+fn builtin_arity(b: Builtin) -> usize {
+    use Builtin::*;
+    match b {
+        Pow | Atan2 | Min | Max | Step => 2,
+        Clamp | Mix | Smoothstep => 3,
+        _ => 1,
+    }
+}
+
+fn len(v: &[f32]) -> f32 {
+    dot(v, v).sqrt()
+}
+
+fn dot(a: &[f32], b: &[f32]) -> f32 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn normalized(a: [f32; 4], n: usize) -> [f32; 4] {
+    let l = len(&a[..n]);
+    [0, 1, 2, 3].map(|i| if i < n { a[i] / l } else { 0.0 })
+}
+
+/// A distance helper, its arguments swizzled as its `case` line in the shader spells them.
+fn helper(op: Opcode, h: Helper, regs: [[f32; 4]; 4]) -> Option<[f32; 4]> {
+    let case = format!("case {}:", op.wgsl_name());
+    let line = INTERPRET.lines().find(|l| l.contains(&case))?;
+    let call = &line[line.find('(')? + 1..];
+    let call = &call[call.find('(')? + 1..];
+    let call = &call[..call.find(')')?];
+    let mut args = Vec::new();
+    for token in call.split([',', ' ']) {
+        let Some((reg, swizzle)) = token.split_once('.') else {
+            continue;
+        };
+        let r = regs[["a", "b", "c", "d"].iter().position(|n| *n == reg)?];
+        args.push(match swizzle {
+            "x" => Value::F(r[0]),
+            "xy" => Value::V2([r[0], r[1]]),
+            "xyz" => Value::V3([r[0], r[1], r[2]]),
+            _ => return None,
+        });
+    }
+    Some(match apply(Op::Helper(h), Ty::F32, &args) {
+        Value::F(x) => splat(x),
+        Value::V3(v) => [v[0], v[1], v[2], 0.0],
+        _ => return None,
+    })
+}

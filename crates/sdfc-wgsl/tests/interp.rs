@@ -84,6 +84,25 @@ fn bytecode_of_a_small_scene() {
     insta::assert_snapshot!("small_scene_bytecode", code.listing());
 }
 
+/// A culled union of 16 spheres in a row: four parts of four, each behind a skip over its
+/// code, the skipped call's results set before it and the part's after it.
+#[test]
+fn bytecode_of_a_culled_union() {
+    let spheres: Vec<String> = (0..16)
+        .map(|i| format!("sphere(0.4).translate([{i}, 0, 0])"))
+        .collect();
+    let src = format!("scene = union({});\n", spheres.join(", "));
+    let opts = sdfc_wgsl::Options {
+        cull: true,
+        ..Default::default()
+    };
+    let c = sdfc_wgsl::compile(&src, &opts).unwrap_or_else(|_| panic!("compiles"));
+    let code = encode(c.program()).expect("encodes");
+    let listing = code.listing();
+    assert!(listing.contains("skip_unless_less"), "{listing}");
+    insta::assert_snapshot!("culled_union_bytecode", listing);
+}
+
 #[test]
 fn large_and_grouped_scenes_fit_the_register_file() {
     // Spheres in a union large enough to be split into group functions.

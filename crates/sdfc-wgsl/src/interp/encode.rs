@@ -880,8 +880,9 @@ impl Bytecode {
 }
 
 /// Register arguments an opcode reads, as its `case` in `shaders/interpreter/interpret.wgsl`
-/// uses them (for listings and the read-before-write test; unused slots are 0).
-fn arity(op: Opcode) -> usize {
+/// uses them (for listings, the read-before-write test and the CPU twin `exec`; unused slots
+/// are 0).
+pub(crate) fn arity(op: Opcode) -> usize {
     use Opcode::*;
     match op {
         Const | Param | Time => 0,

@@ -6,7 +6,7 @@
 //! `sdfc_ir::eval::apply`, with the argument swizzles (`a.xyz`, `b.x`, ...) read from the
 //! helper's `case` line in the shader, so the two cannot drift apart.
 
-use super::encode::{Bytecode, MAX_REGISTERS};
+use super::encode::{arity, Bytecode, MAX_REGISTERS};
 use super::opcodes::{builtin_opcode, helper_opcode, Opcode};
 use super::INTERPRET;
 use sdfc_ir::eval::apply;
@@ -73,10 +73,6 @@ pub fn run(
     Ok([regs[(z & 0xffff) as usize], regs[(z >> 16) as usize]])
 }
 
-fn map(a: [f32; 4], f: impl Fn(f32) -> f32) -> [f32; 4] {
-    a.map(f)
-}
-
 fn zip(a: [f32; 4], b: [f32; 4], f: impl Fn(f32, f32) -> f32) -> [f32; 4] {
     [0, 1, 2, 3].map(|i| f(a[i], b[i]))
 }
@@ -110,7 +106,7 @@ fn execute(
         O::Param => *params.get(imm as usize)?,
         O::Time => splat(time),
         O::Mov => a,
-        O::Neg => map(a, |x| -x),
+        O::Neg => a.map(|x| -x),
         O::Add => zip(a, b, |x, y| x + y),
         O::Sub => zip(a, b, |x, y| x - y),
         O::Mul => zip(a, b, |x, y| x * y),
@@ -167,7 +163,7 @@ fn execute(
                     .iter()
                     .find(|b| builtin_opcode(**b) == Some(op))?;
                 let args = [a, b, c].map(Value::V4);
-                let n = builtin_arity(bi);
+                let n = arity(op);
                 match apply(Op::Builtin(bi), Ty::Vec4, &args[..n]) {
                     Value::V4(v) => v,
                     Value::F(x) => splat(x),
@@ -177,15 +173,6 @@ fn execute(
         }
     };
     Some(Some(r))
-}
-
-fn builtin_arity(b: Builtin) -> usize {
-    use Builtin::*;
-    match b {
-        Pow | Atan2 | Min | Max | Step => 2,
-        Clamp | Mix | Smoothstep => 3,
-        _ => 1,
-    }
 }
 
 fn len(v: &[f32]) -> f32 {

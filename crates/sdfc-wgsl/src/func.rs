@@ -1,8 +1,10 @@
 //! Emits one SSA function as a WGSL function: a `let` per computed node, named by its role
-//! (`q` points, `d` distances, `h` blend weights, `m` materials), constants and inputs inline.
+//! (`q` points, `d` distances, `h` blend weights, `m` materials, `k` material indices),
+//! constants and inputs inline, and so is a point read once as a call argument.
 
 use crate::consts::Consts;
 use crate::literal;
+use crate::material_index::{Index, Plan};
 use sdfc_ir::func::{Func, FuncKind};
 use sdfc_ir::graph::{Graph, NodeId};
 use sdfc_ir::ops::Op;
@@ -28,7 +30,11 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
 /// its distance needs are emitted first, the rest (material selects and blends) inside
 /// `if with_material { ... }`, so a caller that wants the distance alone (the march loop)
 /// skips them. A call is spelled with `false` where only its distance is used.
-pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
+///
+/// With a `plan` (`material_index`), the material is a `u32` index select per condition
+/// (named `k`) and one read of `SCENE_MATERIALS`; the vector selects it replaces are not
+/// emitted.
+pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc: &str) -> String {
     let g = &f.graph;
     // Nodes in the unconditional part: everything for a plain function, the distance's
     // dependencies for a group.
@@ -59,7 +65,25 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
     let mut counters: BTreeMap<&str, usize> = BTreeMap::new();
     let mut calls: BTreeMap<CallKey, String> = BTreeMap::new();
     let mut parts = [String::new(), String::new()];
+    let spelled_inline = inline_points(f, plan);
+    // Index expressions' texts, and how many have been emitted.
+    let mut index_text: Vec<String> = Vec::new();
     for (id, node) in g.nodes() {
+        if let Some(plan) = plan {
+            emit_index(
+                plan,
+                id,
+                consts,
+                &text,
+                &first,
+                &mut counters,
+                &mut index_text,
+                &mut parts,
+            );
+            if plan.replaced[id.index()] {
+                continue;
+            }
+        }
         let part = first[id.index()];
         let out = &mut parts[usize::from(!part)];
         let indent = if part { "    " } else { "        " };
@@ -120,7 +144,7 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
             .map(|a| text[a.index()].as_str())
             .collect();
         let (expr, inline) = expression(g, id, &args, consts);
-        if inline {
+        if inline || spelled_inline[id.index()] || plan.is_some_and(|p| p.inline[id.index()]) {
             text[id.index()] = expr;
             continue;
         }
@@ -131,6 +155,20 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
         let _ = writeln!(out, "{indent}let {name} = {expr};");
         text[id.index()] = name;
     }
+    if let Some(plan) = plan {
+        emit_index(
+            plan,
+            NodeId(g.len() as u32),
+            consts,
+            &text,
+            &first,
+            &mut counters,
+            &mut index_text,
+            &mut parts,
+        );
+    }
+    // The material, where it is an index: `k` names `SCENE_MATERIALS[k]`.
+    let index = plan.and(index_text.last());
     let r: Vec<&str> = f.results.iter().map(|r| text[r.index()].as_str()).collect();
     let mut s = String::new();
     let _ = writeln!(s, "// {doc}");
@@ -157,7 +195,14 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
         FuncKind::Material => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> SceneMaterial {{", f.name);
             s += &parts[0];
-            let _ = writeln!(s, "    return SceneMaterial({}, {});", r[0], r[1]);
+            match index {
+                Some(k) => {
+                    let _ = writeln!(s, "    return SCENE_MATERIALS[{k}];");
+                }
+                None => {
+                    let _ = writeln!(s, "    return SceneMaterial({}, {});", r[0], r[1]);
+                }
+            }
         }
         FuncKind::Group => {
             // A culled half also takes the caller's best distance (`Op::Best`).
@@ -175,13 +220,106 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
             );
             s += "    if with_material {\n";
             s += &parts[1];
-            let _ = writeln!(s, "        sample.albedo = {};", r[1]);
-            let _ = writeln!(s, "        sample.phong = {};", r[2]);
+            match index {
+                Some(k) => {
+                    let _ = writeln!(s, "        let material = SCENE_MATERIALS[{k}];");
+                    s += "        sample.albedo = material.albedo;\n";
+                    s += "        sample.phong = material.phong;\n";
+                }
+                None => {
+                    let _ = writeln!(s, "        sample.albedo = {};", r[1]);
+                    let _ = writeln!(s, "        sample.phong = {};", r[2]);
+                }
+            }
             s += "    }\n    return sample;\n";
         }
     }
     s += "}\n";
     s
+}
+
+/// Emits, as `let k{n} = select(..);`, the plan's index expressions that can be emitted
+/// before node `next` (all nodes before it have their text); leaves are `u32` literals.
+#[allow(clippy::too_many_arguments)]
+fn emit_index(
+    plan: &Plan,
+    next: NodeId,
+    consts: &Consts,
+    text: &[String],
+    first: &[bool],
+    counters: &mut BTreeMap<&str, usize>,
+    done: &mut Vec<String>,
+    parts: &mut [String; 2],
+) {
+    while let Some(e) = plan.exprs.get(done.len()) {
+        let t = match e {
+            Index::Leaf(m) => format!("{}u", consts.table_index(m).unwrap_or(0)),
+            Index::Select {
+                if_false,
+                if_true,
+                cond,
+                ready,
+            } => {
+                if *ready >= next {
+                    return;
+                }
+                let part = first[ready.index()];
+                let indent = if part { "    " } else { "        " };
+                let n = counters.entry("k").or_insert(0);
+                let name = format!("k{n}");
+                *n += 1;
+                let _ = writeln!(
+                    parts[usize::from(!part)],
+                    "{indent}let {name} = select({}, {}, {});",
+                    done[*if_false],
+                    done[*if_true],
+                    text[cond.index()]
+                );
+                name
+            }
+        };
+        done.push(t);
+    }
+}
+
+/// Points spelled where they are read rather than named by a `let`: a vec3 read once, as
+/// an argument of a built-in, helper or constructor (so its text needs no parentheses), at
+/// most two levels deep (`sd_box(rotate_y(p - c, cos, sin), b)`). A union of thousands of
+/// transformed shapes has two such points per shape; naming each cost naga a tenth of its
+/// parse.
+fn inline_points(f: &Func, plan: Option<&Plan>) -> Vec<bool> {
+    let g = &f.graph;
+    let mut uses = vec![0u32; g.len()];
+    let mut arg_uses = vec![0u32; g.len()];
+    for (id, n) in g.nodes() {
+        if plan.is_some_and(|p| p.replaced[id.index()]) {
+            continue;
+        }
+        let as_argument = matches!(n.op, Op::Builtin(_) | Op::Helper(_) | Op::MakeVec);
+        for a in n.args() {
+            uses[a.index()] += 1;
+            arg_uses[a.index()] += u32::from(as_argument);
+        }
+    }
+    for r in &f.results {
+        uses[r.index()] += 1;
+    }
+    let mut depth = vec![0u8; g.len()];
+    let mut out = vec![false; g.len()];
+    for (id, n) in g.nodes() {
+        let i = id.index();
+        let inner = n.args().iter().map(|a| depth[a.index()]).max().unwrap_or(0);
+        if n.ty == Ty::Vec3
+            && uses[i] == 1
+            && arg_uses[i] == 1
+            && inner < 2
+            && !matches!(n.op, Op::Call { .. })
+        {
+            out[i] = true;
+            depth[i] = inner + 1;
+        }
+    }
+    out
 }
 
 /// Whether a group function reads its caller's best distance, and so takes it as a parameter.

@@ -25,7 +25,9 @@
 //!
 //! `scene_distance(p: vec3<f32>) -> f32`, `scene_material(p: vec3<f32>) -> SceneMaterial`,
 //! `struct SceneMaterial { albedo: vec4<f32>, phong: vec4<f32> }` (albedo = rgb colour and
-//! reflectivity; phong = ambient, diffuse, specular, shininess) and the helpers they call.
+//! reflectivity; phong = ambient, diffuse, specular, shininess) and the helpers they call;
+//! module constants named `MATERIAL_*` and, where a function picks among many materials by
+//! index, `SCENE_MATERIALS`; for a large union, `SceneSample` and its `scene_group*` functions.
 //! Where the scene uses them, `var<private> scene_time: f32` and
 //! `var<private> scene_params: array<vec4<f32>, N>` (initialised to the defaults) are inputs the
 //! caller may set. With an import path, a naga_oil `#define_import_path` line comes first.
@@ -36,6 +38,7 @@ pub mod func;
 pub mod interp;
 pub mod literal;
 pub mod marcher;
+pub mod material_index;
 pub mod module;
 pub mod parts;
 pub mod validate;

@@ -23,7 +23,7 @@ fn a_150_shape_union_picks_its_materials_by_index() {
     );
     let compiled = compile(name, &source);
     assert!(
-        compiled.wgsl.contains("SCENE_MATERIALS["),
+        compiled.wgsl.contains("let k0 = select("),
         "{name}: the material is no longer picked by index; pick a scene where it is"
     );
     let Compared {

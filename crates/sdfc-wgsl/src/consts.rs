@@ -3,7 +3,6 @@
 //! four literals at every select (naga's parse of the 5 000-shape scene: 40% less time).
 
 use crate::literal;
-use crate::material_index::Material as Pair;
 use sdfc_ir::func::Func;
 use sdfc_ir::ops::Op;
 use sdfc_ir::scene::Material;
@@ -19,9 +18,6 @@ pub struct Consts {
     names: BTreeMap<Key, String>,
     /// Declarations in material order.
     decls: Vec<(String, String)>,
-    /// `SCENE_MATERIALS`, the materials that index selects pick from (`material_index`).
-    table: Vec<Pair>,
-    table_index: BTreeMap<Pair, usize>,
 }
 
 fn key(v: &Value<f32>) -> Option<Key> {
@@ -85,23 +81,8 @@ impl Consts {
         out
     }
 
-    /// Adds materials to `SCENE_MATERIALS` (each once, in first-use order).
-    pub fn add_to_table(&mut self, materials: impl Iterator<Item = Pair>) {
-        for m in materials {
-            if !self.table_index.contains_key(&m) {
-                self.table_index.insert(m, self.table.len());
-                self.table.push(m);
-            }
-        }
-    }
-
-    /// A material's index in `SCENE_MATERIALS`, once added.
-    pub fn table_index(&self, m: &Pair) -> Option<usize> {
-        self.table_index.get(m).copied()
-    }
-
     /// A vec4 constant by its bits: its name where it has one, else its literal.
-    fn spell(&self, bits: &Key) -> String {
+    pub fn spell_v4(&self, bits: &Key) -> String {
         self.names
             .get(bits)
             .cloned()
@@ -113,34 +94,16 @@ impl Consts {
         key(v).and_then(|k| self.names.get(&k)).map(String::as_str)
     }
 
-    /// The declarations, one `const` per line, then `SCENE_MATERIALS` with one material
-    /// per line.
+    /// The declarations, one `const` per line.
     pub fn declarations(&self) -> String {
-        let mut s: String = self
-            .decls
+        self.decls
             .iter()
             .map(|(name, value)| format!("const {name}: vec4<f32> = {value};\n"))
-            .collect();
-        if !self.table.is_empty() {
-            let n = self.table.len();
-            s += "// The materials that a `k` index picks (`SCENE_MATERIALS[k]`).\n";
-            s += &format!(
-                "const SCENE_MATERIALS: array<SceneMaterial, {n}> = array<SceneMaterial, {n}>(\n"
-            );
-            for (albedo, phong) in &self.table {
-                s += &format!(
-                    "    SceneMaterial({}, {}),\n",
-                    self.spell(albedo),
-                    self.spell(phong)
-                );
-            }
-            s += ");\n";
-        }
-        s
+            .collect()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.decls.is_empty() && self.table.is_empty()
+        self.decls.is_empty()
     }
 }
 

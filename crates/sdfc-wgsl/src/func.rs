@@ -4,7 +4,7 @@
 
 use crate::consts::Consts;
 use crate::literal;
-use crate::material_index::{Index, Plan};
+use crate::material_index::{self, Index, Plan};
 use sdfc_ir::func::{Func, FuncKind};
 use sdfc_ir::graph::{Graph, NodeId};
 use sdfc_ir::ops::Op;
@@ -31,11 +31,13 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
 /// `if with_material { ... }`, so a caller that wants the distance alone (the march loop)
 /// skips them. A call is spelled with `false` where only its distance is used.
 ///
-/// With a `plan` (`material_index`), the material is a `u32` index select per condition
-/// (named `k`) and one read of `SCENE_MATERIALS`; the vector selects it replaces are not
-/// emitted.
-pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc: &str) -> String {
+/// Where `material_index` plans it, the material is a `u32` index select per condition
+/// (named `k`) and one lookup of the index's materials at the end; the vector selects it
+/// replaces are not emitted.
+pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
     let g = &f.graph;
+    let plan = material_index::plan(f);
+    let plan = plan.as_ref();
     // Nodes in the unconditional part: everything for a plain function, the distance's
     // dependencies for a group.
     let mut first = vec![f.kind != FuncKind::Group; g.len()];
@@ -73,7 +75,6 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc
             emit_index(
                 plan,
                 id,
-                consts,
                 &text,
                 &first,
                 &mut counters,
@@ -159,7 +160,6 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc
         emit_index(
             plan,
             NodeId(g.len() as u32),
-            consts,
             &text,
             &first,
             &mut counters,
@@ -167,8 +167,15 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc
             &mut parts,
         );
     }
-    // The material, where it is an index: `k` names `SCENE_MATERIALS[k]`.
-    let index = plan.and(index_text.last());
+    // The material, where it is an index: its albedo and phong looked up.
+    let index = plan.zip(index_text.last()).map(|(p, k)| {
+        // In the material part of a group, in the body of a material function.
+        let (part, indent) = match f.kind {
+            FuncKind::Group => (1, "        "),
+            _ => (0, "    "),
+        };
+        lookup(p, k, consts, &mut counters, &mut parts[part], indent)
+    });
     let r: Vec<&str> = f.results.iter().map(|r| text[r.index()].as_str()).collect();
     let mut s = String::new();
     let _ = writeln!(s, "// {doc}");
@@ -195,9 +202,9 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc
         FuncKind::Material => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> SceneMaterial {{", f.name);
             s += &parts[0];
-            match index {
-                Some(k) => {
-                    let _ = writeln!(s, "    return SCENE_MATERIALS[{k}];");
+            match &index {
+                Some((albedo, phong)) => {
+                    let _ = writeln!(s, "    return SceneMaterial({albedo}, {phong});");
                 }
                 None => {
                     let _ = writeln!(s, "    return SceneMaterial({}, {});", r[0], r[1]);
@@ -220,11 +227,10 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc
             );
             s += "    if with_material {\n";
             s += &parts[1];
-            match index {
-                Some(k) => {
-                    let _ = writeln!(s, "        let material = SCENE_MATERIALS[{k}];");
-                    s += "        sample.albedo = material.albedo;\n";
-                    s += "        sample.phong = material.phong;\n";
+            match &index {
+                Some((albedo, phong)) => {
+                    let _ = writeln!(s, "        sample.albedo = {albedo};");
+                    let _ = writeln!(s, "        sample.phong = {phong};");
                 }
                 None => {
                     let _ = writeln!(s, "        sample.albedo = {};", r[1]);
@@ -244,7 +250,6 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, plan: Option<&Plan>, doc
 fn emit_index(
     plan: &Plan,
     next: NodeId,
-    consts: &Consts,
     text: &[String],
     first: &[bool],
     counters: &mut BTreeMap<&str, usize>,
@@ -253,7 +258,7 @@ fn emit_index(
 ) {
     while let Some(e) = plan.exprs.get(done.len()) {
         let t = match e {
-            Index::Leaf(m) => format!("{}u", consts.table_index(m).unwrap_or(0)),
+            Index::Leaf(m) => format!("{}u", plan.local(m)),
             Index::Select {
                 if_false,
                 if_true,
@@ -320,6 +325,39 @@ fn inline_points(f: &Func, plan: Option<&Plan>) -> Vec<bool> {
         }
     }
     out
+}
+
+/// The albedo and phong of the plan's material `k`, as `let`s of select chains over the
+/// materials it picks from (`k == i` picks material `i`); returns their names or constants.
+/// Not an array read: indexing a constant array at run time made lavapipe take twice as
+/// long to build the 1 000-shape grid's pipeline.
+fn lookup(
+    plan: &Plan,
+    k: &str,
+    consts: &Consts,
+    counters: &mut BTreeMap<&str, usize>,
+    out: &mut String,
+    indent: &str,
+) -> (String, String) {
+    let mut chain = |part: fn(&material_index::Material) -> [u32; 4]| {
+        // At `k == i` every earlier `k == j` is false, so the chain so far gives material
+        // 0's vector: material `i` needs a select only where its vector differs from that.
+        let first = part(&plan.locals[0]);
+        let mut acc = consts.spell_v4(&first);
+        for (i, m) in plan.locals.iter().enumerate().skip(1) {
+            if part(m) != first {
+                let n = counters.entry("m").or_insert(0);
+                let name = format!("m{n}");
+                *n += 1;
+                let v = consts.spell_v4(&part(m));
+                let _ = writeln!(out, "{indent}let {name} = select({acc}, {v}, {k} == {i}u);");
+                acc = name;
+            }
+        }
+        acc
+    };
+    let albedo = chain(|m| m.0);
+    (albedo, chain(|m| m.1))
 }
 
 /// Whether a group function reads its caller's best distance, and so takes it as a parameter.

@@ -26,8 +26,8 @@
 //! `scene_distance(p: vec3<f32>) -> f32`, `scene_material(p: vec3<f32>) -> SceneMaterial`,
 //! `struct SceneMaterial { albedo: vec4<f32>, phong: vec4<f32> }` (albedo = rgb colour and
 //! reflectivity; phong = ambient, diffuse, specular, shininess) and the helpers they call;
-//! module constants named `MATERIAL_*` and, where a function picks among many materials by
-//! index, `SCENE_MATERIALS`; for a large union, `SceneSample` and its `scene_group*` functions.
+//! module constants named `MATERIAL_*`; for a large union, `SceneSample` and its
+//! `scene_group*` functions.
 //! Where the scene uses them, `var<private> scene_time: f32` and
 //! `var<private> scene_params: array<vec4<f32>, N>` (initialised to the defaults) are inputs the
 //! caller may set. With an import path, a naga_oil `#define_import_path` line comes first.

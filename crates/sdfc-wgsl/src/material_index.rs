@@ -1,8 +1,8 @@
 //! Material choice carried as an index: where a function picks its albedo and phong vectors
 //! out of constant materials by one tree of conditions (a hard union of shapes with
-//! materials), the WGSL selects one `u32` per condition instead of two vectors, and reads
-//! `SCENE_MATERIALS[k]` once. Same values, a third of the material text: the 5 000-shape
-//! scene's WGSL shrinks by a third and naga parses it that much faster.
+//! materials), the WGSL selects one `u32` per condition instead of two vectors, and looks
+//! the index's albedo and phong up once at the end. Same values, a third of the material
+//! text: the 5 000-shape scene's WGSL shrinks by a third and naga parses it that much faster.
 
 use sdfc_ir::func::{Func, FuncKind};
 use sdfc_ir::graph::{Graph, NodeId};
@@ -42,15 +42,14 @@ pub struct Plan {
     pub replaced: Vec<bool>,
     /// Per graph node: a condition read by one index select only, spelled inline there.
     pub inline: Vec<bool>,
+    /// The distinct materials picked, in first-use order: index `i` is `locals[i]`.
+    pub locals: Vec<Material>,
 }
 
 impl Plan {
-    /// The constant materials the plan picks from, in first-use order.
-    pub fn materials(&self) -> impl Iterator<Item = Material> + '_ {
-        self.exprs.iter().filter_map(|e| match e {
-            Index::Leaf(m) => Some(*m),
-            Index::Select { .. } => None,
-        })
+    /// The index of a material among [`Plan::locals`] (0 for one it does not pick).
+    pub fn local(&self, m: &Material) -> usize {
+        self.locals.iter().position(|l| l == m).unwrap_or(0)
     }
 }
 
@@ -79,7 +78,17 @@ pub fn plan(f: &Func) -> Option<Plan> {
         .iter()
         .filter(|e| matches!(e, Index::Select { .. }))
         .count();
-    if conditions < MIN_CONDITIONS {
+    let mut locals: Vec<Material> = Vec::new();
+    for e in &b.exprs {
+        if let Index::Leaf(m) = e {
+            if !locals.contains(m) {
+                locals.push(*m);
+            }
+        }
+    }
+    // The lookup at the end costs two selects per material after the first: the index
+    // must save more than that.
+    if conditions < MIN_CONDITIONS || 2 * locals.len().saturating_sub(1) >= conditions {
         return None;
     }
     // Every replaced select must be read only by other replaced selects (or be a root).
@@ -115,6 +124,7 @@ pub fn plan(f: &Func) -> Option<Plan> {
         exprs: b.exprs,
         replaced: b.replaced,
         inline,
+        locals,
     })
 }
 

@@ -4,12 +4,11 @@
 use crate::consts::Consts;
 use crate::func::emit as emit_func;
 use crate::literal;
-use crate::material_index::{self, Plan};
 use crate::{marcher, parts};
 use sdfc_ir::func::Func;
 use sdfc_ir::ops::{Helper, Op};
 use sdfc_ir::Program;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 use std::fmt::Write;
 
 fn uses(f: &&Func, pred: impl Fn(&Op) -> bool) -> bool {
@@ -101,17 +100,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
         s += "\n// The distance and material of a group of shapes.\n";
         s += "struct SceneSample {\n    distance: f32,\n    albedo: vec4<f32>,\n    phong: vec4<f32>,\n}\n";
     }
-    let mut consts = Consts::of(&p.scene.materials, &funcs);
-    let plans: BTreeMap<&str, Plan> = funcs
-        .iter()
-        .filter_map(|f| Some((f.name.as_str(), material_index::plan(f)?)))
-        .collect();
-    for f in &funcs {
-        if let Some(plan) = plans.get(f.name.as_str()) {
-            consts.add_to_table(plan.materials());
-        }
-    }
-    let plan = |f: &Func| plans.get(f.name.as_str());
+    let consts = Consts::of(&p.scene.materials, &funcs);
     if !consts.is_empty() {
         s += "\n// The scene's materials, by name.\n";
         s += &consts.declarations();
@@ -136,7 +125,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
         push_func(
             &mut s,
             &consts,
-            (g, plan(g)),
+            g,
             groups,
             "The distance (and, when asked, the material) of one group of a large union.",
         );
@@ -144,7 +133,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     push_func(
         &mut s,
         &consts,
-        (distance, plan(distance)),
+        distance,
         groups,
         "The signed distance from p to the scene (the march loop calls only this).",
     );
@@ -152,7 +141,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
         push_func(
             &mut s,
             &consts,
-            (f, plan(f)),
+            f,
             groups,
             "The distance for marching along the unit direction rd: bound-only nodes divide by their slope along rd where it is below their bound in every direction.",
         );
@@ -162,7 +151,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
             push_func(
                 &mut s,
                 &consts,
-                (f, plan(f)),
+                f,
                 all,
                 "The distance of one group (w) and its gradient (xyz), for analytic normals.",
             );
@@ -170,7 +159,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
         push_func(
             &mut s,
             &consts,
-            (&g.func, plan(&g.func)),
+            &g.func,
             all,
             "The distance from p to the scene (w) and its gradient (xyz): the forward-mode derivative of scene_distance, for analytic normals.",
         );
@@ -178,7 +167,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     push_func(
         &mut s,
         &consts,
-        (material, plan(material)),
+        material,
         groups,
         "The material at a surface point p (called once per hit, never while marching).",
     );
@@ -205,13 +194,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
 }
 
 /// Appends one emitted function, after a blank line.
-fn push_func(
-    s: &mut String,
-    consts: &Consts,
-    (f, plan): (&Func, Option<&Plan>),
-    groups: &[Func],
-    doc: &str,
-) {
+fn push_func(s: &mut String, consts: &Consts, f: &Func, groups: &[Func], doc: &str) {
     s.push('\n');
-    s.push_str(&emit_func(f, groups, consts, plan, doc));
+    s.push_str(&emit_func(f, groups, consts, doc));
 }

@@ -77,6 +77,17 @@ impl Graph {
         Graph::default()
     }
 
+    /// An empty graph with room for `n` nodes and none in its table, for
+    /// [`Graph::push_copy`].
+    pub fn with_capacity_untabled(n: usize) -> Graph {
+        Graph {
+            nodes: Vec::with_capacity(n),
+            spans: Vec::with_capacity(n),
+            hints: Vec::with_capacity(n),
+            ..Graph::default()
+        }
+    }
+
     /// An empty graph with room for `n` nodes (rebuilding passes know their size).
     pub fn with_capacity(n: usize) -> Graph {
         Graph {
@@ -132,8 +143,31 @@ impl Graph {
         self.as_const(id).and_then(|v| v.scalar())
     }
 
+    /// Appends a copy of a node of a hash-consed graph whose arguments have been renamed
+    /// one-to-one (dead code elimination), so it cannot be a duplicate: no lookup, and the
+    /// table is filled only if a later [`Graph::add`] needs it (most graphs after DCE are
+    /// only read: lowering the 5 000-shape scene, 36-37 -> 32 ms).
+    pub fn push_copy(&mut self, node: Node, span: Span, hint: &'static str) -> NodeId {
+        let id = NodeId(self.nodes.len() as u32);
+        self.nodes.push(node);
+        self.spans.push(span);
+        self.hints.push(hint);
+        id
+    }
+
+    /// Fills the table with the nodes appended by [`Graph::push_copy`].
+    fn index_copies(&mut self) {
+        if self.table.len() < self.nodes.len() {
+            self.table.reserve(self.nodes.len() - self.table.len());
+            for (i, n) in self.nodes.iter().enumerate() {
+                self.table.insert((n.op, n.args), NodeId(i as u32));
+            }
+        }
+    }
+
     /// Adds (or finds) a node. The result type is inferred; see [`infer`].
     pub fn add(&mut self, op: Op, args: &[NodeId], span: Span) -> NodeId {
+        self.index_copies();
         let key = (op, Args::new(args));
         if let Some(&id) = self.table.get(&key) {
             return id;
@@ -162,6 +196,7 @@ impl Graph {
 
     /// Adds (or finds) a node whose type the caller knows (inputs, calls).
     pub fn add_typed(&mut self, op: Op, args: &[NodeId], ty: Ty, span: Span) -> NodeId {
+        self.index_copies();
         let key = (op, Args::new(args));
         if let Some(&id) = self.table.get(&key) {
             return id;

@@ -104,9 +104,8 @@ pub fn plan(f: &Func) -> Option<Plan> {
             outside_uses[a.index()] += 1;
         }
     }
-    for (i, r) in f.results.iter().enumerate() {
-        let root = (f.kind == FuncKind::Group && i >= 1) || (f.kind == FuncKind::Material);
-        if b.replaced[r.index()] && !root {
+    for r in &f.results {
+        if b.replaced[r.index()] && *r != albedo && *r != phong {
             return None;
         }
         outside_uses[r.index()] += 1;
@@ -173,10 +172,9 @@ impl Builder<'_> {
         // Split on the later select where both are selects on different conditions (the
         // outer choice of a chain); on a constant's partner where only one is a select.
         let split_albedo = match (sa, sp) {
-            (Some([_, _, ca]), Some([_, _, cp])) if ca == cp => {
-                let ([af, at, c], [pf, pt, _]) = (sa?, sp?);
+            (Some([af, at, ca]), Some([pf, pt, cp])) if ca == cp => {
                 return Some(Shape::Split {
-                    cond: c,
+                    cond: ca,
                     if_false: (af, pf),
                     if_true: (at, pt),
                     replaces: [Some(a), Some(p)],

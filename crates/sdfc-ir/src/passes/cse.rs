@@ -16,18 +16,7 @@ pub fn rebuild(
     let live = if keep_dead {
         vec![true; g.len()]
     } else {
-        let mut live = vec![false; g.len()];
-        for r in roots {
-            live[r.index()] = true;
-        }
-        for i in (0..g.len()).rev() {
-            if live[i] {
-                for a in g.node(NodeId(i as u32)).args() {
-                    live[a.index()] = true;
-                }
-            }
-        }
-        live
+        live(g, roots)
     };
     let mut out = Graph::with_capacity(g.len());
     let mut map = vec![NodeId(0); g.len()];
@@ -48,6 +37,22 @@ pub fn rebuild(
     out.ill_typed = g.ill_typed.clone();
     let roots = roots.iter().map(|r| map[r.index()]).collect();
     (out, roots)
+}
+
+/// Per node: whether any of `roots` depends on it.
+pub fn live(g: &Graph, roots: &[NodeId]) -> Vec<bool> {
+    let mut live = vec![false; g.len()];
+    for r in roots {
+        live[r.index()] = true;
+    }
+    for i in (0..g.len()).rev() {
+        if live[i] {
+            for a in g.node(NodeId(i as u32)).args() {
+                live[a.index()] = true;
+            }
+        }
+    }
+    live
 }
 
 /// Re-adds a node unchanged (inputs keep their declared type).

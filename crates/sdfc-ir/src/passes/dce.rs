@@ -1,21 +1,12 @@
 //! Dead code elimination: keeps only the nodes the function's results depend on.
 
+use super::cse::live;
 use crate::func::Func;
 use crate::graph::{Args, Graph, Node, NodeId};
 
 pub fn run(f: &Func) -> Func {
     let g = &f.graph;
-    let mut live = vec![false; g.len()];
-    for r in &f.results {
-        live[r.index()] = true;
-    }
-    for i in (0..g.len()).rev() {
-        if live[i] {
-            for a in g.node(NodeId(i as u32)).args() {
-                live[a.index()] = true;
-            }
-        }
-    }
+    let live = live(g, &f.results);
     // The live nodes, in order, with their arguments renamed: distinct nodes stay distinct,
     // so they are appended without the hash-consing lookup.
     let mut graph = Graph::with_capacity_untabled(live.iter().filter(|l| **l).count());

@@ -12,9 +12,10 @@ use sdfc_wgsl::interp::encode::{encode, Bytecode};
 use sdfc_wgsl::interp::frame::frame_data_with;
 use std::sync::atomic::Ordering;
 
-/// The interpreter's WGSL (emitted and validated once per process).
-fn interpreter_wgsl() -> Result<&'static str, RenderError> {
-    sdfc_wgsl::interp::shader().map_err(|f| match f {
+/// The interpreter's WGSL running `unroll` instructions per trip of its loop (emitted and
+/// validated once per process).
+fn interpreter_wgsl(unroll: u32) -> Result<&'static str, RenderError> {
+    sdfc_wgsl::interp::shader_unrolled(unroll).map_err(|f| match f {
         sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
         sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
             "{} diagnostic(s) while emitting the interpreter",
@@ -85,17 +86,20 @@ impl Renderer {
         code: &Bytecode,
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
-        self.render_bytecode_with(program, &program.scene.render, code, opts)
+        self.render_bytecode_with(program, &program.scene.render, code, opts, true)
     }
 
     /// As [`Renderer::render_bytecode`], with render settings `settings` in place of the
     /// scene's (the interpreter reads them at run time).
+    /// Where the device cut pixels' code short, `retry` draws the frame again with the
+    /// pipeline that runs two instructions per trip.
     pub(crate) fn render_bytecode_with(
         &self,
         program: &Program,
         settings: &RenderSettings,
         code: &Bytecode,
         opts: &RenderOptions,
+        retry: bool,
     ) -> Result<Frame, RenderError> {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
@@ -111,19 +115,41 @@ impl Renderer {
                 )),
             ));
         }
-        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl()?)?;
-        let frame = self.dispatch(
-            &pipeline.pipeline,
-            &self.interp_bind_layout,
-            &data.uniform,
-            &[
-                ("sdfc bytecode", &data.code),
-                ("sdfc scene data", &data.data),
-            ],
-            opts,
-            (gx, gy),
-        )?;
+        let draw = |unroll: u32| -> Result<(Frame, usize), RenderError> {
+            let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll)?)?;
+            let mut frame = self.dispatch(
+                &pipeline.pipeline,
+                &self.interp_bind_layout,
+                &data.uniform,
+                &[
+                    ("sdfc bytecode", &data.code),
+                    ("sdfc scene data", &data.data),
+                ],
+                opts,
+                (gx, gy),
+            )?;
+            let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
+            Ok((frame, cut))
+        };
+        let (mut frame, mut cut) = draw(1)?;
         self.interpreter_warm.store(true, Ordering::Relaxed);
+        // lavapipe and llvmpipe end an invocation's loops after 65 535 trips in all; where
+        // that cut a pixel's code short, the pipeline with two instructions per trip draws
+        // the frame again (a second pipeline: not for a preview, which must not wait for it).
+        if cut > 0 && retry && self.adapter_description().software {
+            (frame, cut) = draw(sdfc_wgsl::interp::CPU_UNROLL)?;
+        }
+        if cut > 0 {
+            return Err(RenderError::Interpreter(
+                sdfc_wgsl::interp::encode::EncodeError::TooLarge(format!(
+                    "on {} of {} pixels it needs more loop trips than {} allows one \
+                     invocation (lavapipe and llvmpipe: 65 535 in all)",
+                    cut,
+                    opts.width as usize * opts.height as usize,
+                    self.adapter_description().name
+                )),
+            ));
+        }
         Ok(frame)
     }
 }

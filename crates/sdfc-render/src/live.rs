@@ -327,7 +327,7 @@ impl Renderer {
             ..opts.clone()
         };
         let settings = preview_settings(&program.scene.render);
-        let frame = self.render_bytecode_with(program, &settings, code, &small)?;
+        let frame = self.render_bytecode_with(program, &settings, code, &small, false)?;
         Ok(enlarge(&frame, opts.width, opts.height, scale))
     }
 }

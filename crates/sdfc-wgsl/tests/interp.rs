@@ -41,6 +41,26 @@ fn the_interpreter_shader_passes_naga() {
         .collect();
     assert_eq!(calls.len(), 5, "{calls:#?}");
     assert_eq!(wgsl.matches("interpret(frame.").count(), 2);
+    // One instruction per trip of the loop, and no loop inside an instruction: lavapipe
+    // counts every loop reached against an invocation's 65 535 trips, lanes masked or not.
+    assert_eq!(wgsl.matches("pc = execute(&regs, pc);").count(), 1);
+    // A pixel whose run was cut short is marked in its alpha.
+    assert_eq!(wgsl.matches("select(1.0, 0.0, cut)").count(), 1);
+    let execute = &wgsl[wgsl.find("fn execute(").unwrap()..wgsl.find("fn interpret(").unwrap()];
+    for word in ["for (", "loop {", "while "] {
+        assert!(!execute.contains(word), "a loop in an instruction: {word}");
+    }
+}
+
+/// On a CPU device two instructions run per trip: the same module otherwise, and valid.
+#[test]
+fn the_cpu_devices_interpreter_runs_two_instructions_per_trip() {
+    let one = interp::shader().unwrap();
+    let two = interp::shader_unrolled(interp::CPU_UNROLL).unwrap();
+    assert_eq!(interp::CPU_UNROLL, 2);
+    assert_eq!(two.matches("pc = execute(&regs, pc);").count(), 2);
+    let again = "        if pc < last {\n            pc = execute(&regs, pc);\n        }\n";
+    assert_eq!(two.replacen(again, "", 1), one);
 }
 
 #[test]
@@ -185,4 +205,12 @@ fn the_preview_keeps_the_primary_ray_and_drops_the_secondary_ones() {
     assert_eq!(preview.max_steps, 300);
     assert_eq!(preview.normals, r.normals);
     assert_eq!(preview.epsilon, r.epsilon);
+}
+
+#[test]
+fn cut_pixels_are_counted_and_made_opaque() {
+    let mut rgba = vec![10, 20, 30, 255, 1, 2, 3, 0, 0, 0, 0, 0];
+    assert_eq!(interp::cut_pixels(&mut rgba), 2);
+    assert_eq!(rgba, vec![10, 20, 30, 255, 1, 2, 3, 255, 0, 0, 0, 255]);
+    assert_eq!(interp::cut_pixels(&mut rgba), 0);
 }

@@ -21,7 +21,7 @@ use std::fmt::{self, Write};
 /// Registers of the interpreter's register file (`MAX_REGISTERS` in the shader).
 pub const MAX_REGISTERS: u32 = 64;
 /// Entries of the constant pool an instruction can name (a 16-bit immediate).
-pub const MAX_CONSTANTS: usize = 1 << 16;
+pub const MAX_CONSTANTS: usize = (1 << 16) - MAX_REGISTERS as usize;
 /// Instructions of one program (distance and material together).
 pub const MAX_INSTRUCTIONS: usize = 1 << 20;
 /// Nesting of group calls inlined into one another.
@@ -73,16 +73,12 @@ pub struct Bytecode {
 /// An SSA value in virtual registers: a vector (or scalar) or a matrix's three columns.
 #[derive(Clone, Copy, Debug)]
 enum Val {
+    /// A virtual register, or a constant of the pool ([`const_operand`]).
     Reg(u32),
     Mat([u32; 3]),
-    /// An input loaded where it is used (`const`, `param`, `time`), not where the graph has
-    /// it: graphs list constants early, and loading them all up front would keep hundreds of
-    /// registers busy in a large union.
+    /// An input loaded where it is used (`param`, `time`), not where the graph has it, so
+    /// that it does not hold a register all the way from the graph's start.
     Load(Opcode, u32),
-    /// A constant matrix, by its columns' constant indices, loaded where it is used: a
-    /// rotation shared by shapes far apart in a union would otherwise hold three registers
-    /// all the way between them.
-    MatLoad([u32; 3]),
 }
 
 /// What a function's `Op::Point` and `Op::Best` stand for where it is inlined.
@@ -122,6 +118,17 @@ struct Chunk {
 /// The point's virtual (and physical) register.
 const POINT: u32 = 0;
 
+/// Marks a virtual operand that is constant `k` of the pool, not a register.
+const CONST_OPERAND: u32 = 1 << 31;
+
+/// The virtual operand reading constant `k`. Half the instructions of a large union were
+/// `const` loads, each a trip of the shader's loop (and on lavapipe a pass through every
+/// case of its switch); an operand names the constant instead, as `MAX_REGISTERS + k` in
+/// the bytecode.
+fn const_operand(k: u32) -> u32 {
+    CONST_OPERAND | k
+}
+
 impl Chunk {
     fn new() -> Chunk {
         Chunk {
@@ -131,11 +138,11 @@ impl Chunk {
         }
     }
 
-    /// A value in a register: loads are emitted here, or reused while recent.
+    /// A value an instruction can read: a param or the time is loaded here, or its load
+    /// reused while recent (a constant is an operand already, [`const_operand`]).
     fn materialize(&mut self, v: Val) -> Val {
         match v {
             Val::Load(op, imm) => Val::Reg(self.load(op, imm)),
-            Val::MatLoad(cols) => Val::Mat(cols.map(|i| self.load(Opcode::Const, i))),
             _ => v,
         }
     }
@@ -245,9 +252,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
 fn reg(v: Val, what: &str) -> Result<u32, EncodeError> {
     match v {
         Val::Reg(r) => Ok(r),
-        Val::Mat(_) | Val::MatLoad(_) => {
-            Err(EncodeError::Unsupported(format!("{what} is a matrix")))
-        }
+        Val::Mat(_) => Err(EncodeError::Unsupported(format!("{what} is a matrix"))),
         Val::Load(..) => Err(unsupported(format!("{what} was not loaded"))),
     }
 }
@@ -289,12 +294,12 @@ impl Encoder<'_> {
             Value::M3(m) => {
                 let mut cols = [0; 3];
                 for (col, m) in cols.iter_mut().zip(m) {
-                    *col = self.constant(lanes(&m))?;
+                    *col = const_operand(self.constant(lanes(&m))?);
                 }
-                return Ok(Val::MatLoad(cols));
+                return Ok(Val::Mat(cols));
             }
         };
-        Ok(Val::Load(Opcode::Const, self.constant(vec)?))
+        Ok(Val::Reg(const_operand(self.constant(vec)?)))
     }
 
     /// Encodes the nodes of `f` that `results` need, with `point` as `Op::Point`; returns the
@@ -755,13 +760,14 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
     let virtuals = ins
         .iter()
         .flat_map(|x| x.dst.iter().chain(&x.args))
+        .filter(|&&v| v & CONST_OPERAND == 0)
         .max()
         .map_or(0, |&v| v as usize)
         .max(POINT as usize)
         + 1;
     let mut last_use = vec![usize::MAX; virtuals];
     for (i, x) in ins.iter().enumerate() {
-        for &a in &x.args {
+        for &a in x.args.iter().filter(|&&a| a & CONST_OPERAND == 0) {
             last_use[a as usize] = i;
         }
     }
@@ -773,15 +779,19 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
     let mut used = POINT + 1;
     for (i, x) in ins.iter().enumerate() {
         let mut args = [0u32; 4];
-        for (slot, a) in args.iter_mut().zip(&x.args) {
-            *slot = match phys[*a as usize] {
+        for (slot, &a) in args.iter_mut().zip(&x.args) {
+            if a & CONST_OPERAND != 0 {
+                *slot = MAX_REGISTERS + (a & !CONST_OPERAND);
+                continue;
+            }
+            *slot = match phys[a as usize] {
                 NONE => return Err(unsupported("a register read before it is written")),
                 p => p,
             };
         }
         // Arguments read for the last time free their registers before the result takes
         // one: the interpreter reads every argument before it writes.
-        for a in &x.args {
+        for a in x.args.iter().filter(|&&a| a & CONST_OPERAND == 0) {
             if *a != POINT && last_use[*a as usize] == i {
                 let p = std::mem::replace(&mut phys[*a as usize], NONE);
                 if p != NONE {
@@ -852,9 +862,14 @@ impl Bytecode {
                     continue;
                 };
                 let n = arity(*op);
-                let regs: Vec<String> = args[..n].iter().map(|r| format!("r{r}")).collect();
+                let regs: Vec<String> = args[..n]
+                    .iter()
+                    .map(|&r| match r.checked_sub(MAX_REGISTERS) {
+                        Some(k) => format!("c{k}"),
+                        None => format!("r{r}"),
+                    })
+                    .collect();
                 let imm = match op {
-                    Opcode::Const => format!(" c{imm}"),
                     Opcode::Param => format!(" #{imm}"),
                     Opcode::Swizzle => format!(
                         " .{}",
@@ -885,7 +900,7 @@ impl Bytecode {
 pub(crate) fn arity(op: Opcode) -> usize {
     use Opcode::*;
     match op {
-        Const | Param | Time => 0,
+        Param | Time => 0,
         Ret => 2,
         Neg | Swizzle | Abs | Sign | Floor | Ceil | Fract | Round | Sqrt | Exp | Log | Sin
         | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4
@@ -923,7 +938,7 @@ mod tests {
                 let [op, d, a01, a23] = code.code[pc as usize];
                 let op = *Opcode::ALL.iter().find(|o| o.code() == op).unwrap();
                 let args = [a01 & 0xffff, a01 >> 16, a23 & 0xffff, a23 >> 16];
-                for &r in &args[..arity(op)] {
+                for &r in args[..arity(op)].iter().filter(|&&r| r < MAX_REGISTERS) {
                     assert!(
                         written[r as usize],
                         "{name}: {func} instruction {pc} ({}) reads r{r} before any write\n{}",
@@ -956,11 +971,27 @@ mod tests {
     fn arities_match_the_shader() {
         for op in Opcode::ALL.iter().filter(|o| **o != Opcode::Ret) {
             let case = format!("case {}:", op.wgsl_name());
-            let line = super::super::INTERPRET
-                .lines()
-                .find(|l| l.contains(&case))
+            let src = super::super::INTERPRET;
+            let at = src
+                .find(&case)
                 .unwrap_or_else(|| panic!("no case for {}", op.mnemonic()));
-            let body = &line[line.find('{').unwrap()..];
+            // The case's block, to its matching brace (a fractal's case spans lines).
+            let open = at + src[at..].find('{').unwrap();
+            let mut depth = 0;
+            let mut close = open;
+            for (i, ch) in src[open..].char_indices() {
+                match ch {
+                    '{' => depth += 1,
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+                if depth == 0 {
+                    close = open + i;
+                    break;
+                }
+            }
+            let line = &src[at..=close];
+            let body = &src[open..=close];
             let words: Vec<&str> = body
                 .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
                 .collect();

@@ -43,11 +43,7 @@ pub fn run(
     while pc < last {
         let [op, y, z, w] = code.code[pc as usize];
         let (dst, imm) = ((y & 0xffff) as usize, y >> 16);
-        let reg = |i: u32| {
-            regs.get(i as usize)
-                .copied()
-                .ok_or("a register out of range")
-        };
+        let reg = |i: u32| operand(&regs, code, i);
         let (a, b, c, d) = (
             reg(z & 0xffff)?,
             reg(z >> 16)?,
@@ -59,7 +55,7 @@ pub fn run(
             .copied()
             .find(|o| o.code() == op)
             .ok_or_else(|| format!("unknown opcode {op} at {pc}"))?;
-        let r = execute(op, imm, [a, b, c, d], code, params, time)
+        let r = execute(op, imm, [a, b, c, d], params, time)
             .ok_or_else(|| format!("{} at {pc}", op.mnemonic()))?;
         // `!(a < b)`, as the shader says it: NaN skips too.
         let less = a[0].partial_cmp(&b[0]) == Some(std::cmp::Ordering::Less);
@@ -70,7 +66,26 @@ pub fn run(
         pc += 1;
     }
     let [_, _, z, _] = code.code[last as usize];
-    Ok([regs[(z & 0xffff) as usize], regs[(z >> 16) as usize]])
+    Ok([
+        operand(&regs, code, z & 0xffff)?,
+        operand(&regs, code, z >> 16)?,
+    ])
+}
+
+/// An operand: a register, or from `MAX_REGISTERS` on a constant of the pool.
+fn operand(
+    regs: &[[f32; 4]; MAX_REGISTERS as usize],
+    code: &Bytecode,
+    i: u32,
+) -> Result<[f32; 4], &'static str> {
+    match i.checked_sub(MAX_REGISTERS) {
+        Some(k) => code
+            .consts
+            .get(k as usize)
+            .copied()
+            .ok_or("a constant out of range"),
+        None => Ok(regs[i as usize]),
+    }
 }
 
 fn zip(a: [f32; 4], b: [f32; 4], f: impl Fn(f32, f32) -> f32) -> [f32; 4] {
@@ -95,14 +110,12 @@ fn execute(
     op: Opcode,
     imm: u32,
     [a, b, c, d]: [[f32; 4]; 4],
-    code: &Bytecode,
     params: &[[f32; 4]],
     time: f32,
 ) -> Option<Option<[f32; 4]>> {
     use Opcode as O;
     let r = match op {
         O::Ret | O::SkipUnlessLess => return Some(None),
-        O::Const => *code.consts.get(imm as usize)?,
         O::Param => *params.get(imm as usize)?,
         O::Time => splat(time),
         O::Mov => a,
@@ -188,10 +201,22 @@ fn normalized(a: [f32; 4], n: usize) -> [f32; 4] {
     [0, 1, 2, 3].map(|i| if i < n { a[i] / l } else { 0.0 })
 }
 
-/// A distance helper, its arguments swizzled as its `case` line in the shader spells them.
+/// A distance helper, its arguments swizzled as its `case` line in the shader spells them;
+/// a fractal's case (one iteration per trip, over several lines) reads the point `a.xyz`
+/// and scalars `b.x`, `c.x`, `d.x`.
 fn helper(op: Opcode, h: Helper, regs: [[f32; 4]; 4]) -> Option<[f32; 4]> {
     let case = format!("case {}:", op.wgsl_name());
     let line = INTERPRET.lines().find(|l| l.contains(&case))?;
+    if line.trim_end().ends_with('{') {
+        let [a, b, c, d] = regs;
+        let scalars = [b[0], c[0], d[0]].map(Value::F);
+        let mut args = vec![Value::V3([a[0], a[1], a[2]])];
+        args.extend_from_slice(&scalars[..arity(op).checked_sub(1)?]);
+        return match apply(Op::Helper(h), Ty::F32, &args) {
+            Value::F(x) => Some(splat(x)),
+            _ => None,
+        };
+    }
     let call = &line[line.find('(')? + 1..];
     let call = &call[call.find('(')? + 1..];
     let call = &call[..call.find(')')?];

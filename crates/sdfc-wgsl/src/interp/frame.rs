@@ -116,7 +116,9 @@ pub fn frame_data_with(
     data.push(hi);
     let consts_at = data.len() as u32;
     data.extend_from_slice(&code.consts);
-    if data.is_empty() {
+    // The shader reads constant 0 for every register operand too (and discards it): it
+    // must exist.
+    if code.consts.is_empty() {
         data.push([0.0; 4]);
     }
 

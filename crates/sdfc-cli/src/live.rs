@@ -109,6 +109,13 @@ pub fn draw(
     if let Some(why) = &report.preview_skipped {
         eprintln!("sdfc: no preview: {why}");
     }
+    if report.preview_cut > 0 {
+        eprintln!(
+            "sdfc: the preview had {} pixels cut short by this device's loop budget (65 535 \
+             trips per invocation on lavapipe and llvmpipe); the final frame has none",
+            report.preview_cut
+        );
+    }
     let build = report.pipeline_ready.saturating_sub(report.build_started);
     let preview = match (report.interpreted, &report.preview_skipped) {
         (None, None) => format!(

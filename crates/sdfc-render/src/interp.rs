@@ -86,21 +86,53 @@ impl Renderer {
         code: &Bytecode,
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
-        self.render_bytecode_with(program, &program.scene.render, code, opts, true)
+        self.render_bytecode_with(program, &program.scene.render, code, opts)
     }
 
     /// As [`Renderer::render_bytecode`], with render settings `settings` in place of the
-    /// scene's (the interpreter reads them at run time).
-    /// Where the device cut pixels' code short, `retry` draws the frame again with the
-    /// pipeline that runs two instructions per trip.
+    /// scene's (the interpreter reads them at run time). lavapipe and llvmpipe end an
+    /// invocation's loops after 65 535 trips in all; where that cut pixels' code short, the
+    /// pipeline with two instructions per trip draws the frame again, and pixels still cut
+    /// make it an error (the scene is too large for the interpreter there).
     pub(crate) fn render_bytecode_with(
         &self,
         program: &Program,
         settings: &RenderSettings,
         code: &Bytecode,
         opts: &RenderOptions,
-        retry: bool,
     ) -> Result<Frame, RenderError> {
+        let (mut frame, mut cut) = self.render_bytecode_cut(program, settings, code, opts, 1)?;
+        if cut > 0 && self.adapter_description().software {
+            let unroll = sdfc_wgsl::interp::CPU_UNROLL;
+            (frame, cut) = self.render_bytecode_cut(program, settings, code, opts, unroll)?;
+        }
+        if cut > 0 {
+            return Err(self.cut_short(cut, opts));
+        }
+        Ok(frame)
+    }
+
+    /// Why a frame with `cut` pixels cut short by the device's loop budget is refused.
+    pub(crate) fn cut_short(&self, cut: usize, opts: &RenderOptions) -> RenderError {
+        RenderError::Interpreter(sdfc_wgsl::interp::encode::EncodeError::TooLarge(format!(
+            "on {} of {} pixels it needs more loop trips than {} allows one invocation \
+             (lavapipe and llvmpipe: 65 535 in all)",
+            cut,
+            opts.width as usize * opts.height as usize,
+            self.adapter_description().name
+        )))
+    }
+
+    /// One interpreted frame by the pipeline running `unroll` instructions per trip, and
+    /// how many of its pixels the device cut short (made opaque again).
+    pub(crate) fn render_bytecode_cut(
+        &self,
+        program: &Program,
+        settings: &RenderSettings,
+        code: &Bytecode,
+        opts: &RenderOptions,
+        unroll: u32,
+    ) -> Result<(Frame, usize), RenderError> {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
@@ -115,41 +147,20 @@ impl Renderer {
                 )),
             ));
         }
-        let draw = |unroll: u32| -> Result<(Frame, usize), RenderError> {
-            let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll)?)?;
-            let mut frame = self.dispatch(
-                &pipeline.pipeline,
-                &self.interp_bind_layout,
-                &data.uniform,
-                &[
-                    ("sdfc bytecode", &data.code),
-                    ("sdfc scene data", &data.data),
-                ],
-                opts,
-                (gx, gy),
-            )?;
-            let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
-            Ok((frame, cut))
-        };
-        let (mut frame, mut cut) = draw(1)?;
+        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll)?)?;
+        let mut frame = self.dispatch(
+            &pipeline.pipeline,
+            &self.interp_bind_layout,
+            &data.uniform,
+            &[
+                ("sdfc bytecode", &data.code),
+                ("sdfc scene data", &data.data),
+            ],
+            opts,
+            (gx, gy),
+        )?;
         self.interpreter_warm.store(true, Ordering::Relaxed);
-        // lavapipe and llvmpipe end an invocation's loops after 65 535 trips in all; where
-        // that cut a pixel's code short, the pipeline with two instructions per trip draws
-        // the frame again (a second pipeline: not for a preview, which must not wait for it).
-        if cut > 0 && retry && self.adapter_description().software {
-            (frame, cut) = draw(sdfc_wgsl::interp::CPU_UNROLL)?;
-        }
-        if cut > 0 {
-            return Err(RenderError::Interpreter(
-                sdfc_wgsl::interp::encode::EncodeError::TooLarge(format!(
-                    "on {} of {} pixels it needs more loop trips than {} allows one \
-                     invocation (lavapipe and llvmpipe: 65 535 in all)",
-                    cut,
-                    opts.width as usize * opts.height as usize,
-                    self.adapter_description().name
-                )),
-            ));
-        }
-        Ok(frame)
+        let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
+        Ok((frame, cut))
     }
 }

@@ -82,6 +82,10 @@ impl LiveOptions {
 pub struct LiveReport {
     /// The interpreted preview, when one was drawn: until its pixels were on the CPU.
     pub interpreted: Option<Duration>,
+    /// Pixels of the preview (before it was enlarged) whose code the device's loop budget
+    /// cut short, so that they show arbitrary colours: at most a tenth of them, else no
+    /// preview is drawn (lavapipe and llvmpipe; never on a GPU).
+    pub preview_cut: usize,
     /// Why no preview was drawn although the specialised pipeline was late: the scene is
     /// beyond the interpreter's limits, say.
     pub preview_skipped: Option<String>,
@@ -148,6 +152,7 @@ impl Renderer {
         let mut tx = Some(tx);
         let mut code = None;
         let (mut interpreted, mut preview_skipped) = (None, None);
+        let mut preview_cut = 0;
         let (built, pipeline_ready) = loop {
             if superseded() {
                 abandoned.store(true, Ordering::Relaxed);
@@ -189,7 +194,8 @@ impl Renderer {
                         return Ok(None);
                     }
                     match self.preview(program, code, opts, live) {
-                        Ok(frame) => {
+                        Ok((frame, cut)) => {
+                            preview_cut = cut;
                             interpreted = Some(live.start.elapsed());
                             on_frame(Drawn::Interpreted, &frame);
                         }
@@ -217,6 +223,7 @@ impl Renderer {
             frame,
             LiveReport {
                 interpreted,
+                preview_cut,
                 preview_skipped,
                 build_started,
                 pipeline_ready,
@@ -319,7 +326,7 @@ impl Renderer {
         code: &Bytecode,
         opts: &RenderOptions,
         live: &LiveOptions,
-    ) -> Result<Frame, RenderError> {
+    ) -> Result<(Frame, usize), RenderError> {
         let scale = live.preview_scale_on(self);
         let small = RenderOptions {
             width: opts.width.div_ceil(scale),
@@ -327,8 +334,15 @@ impl Renderer {
             ..opts.clone()
         };
         let settings = preview_settings(&program.scene.render);
-        let frame = self.render_bytecode_with(program, &settings, code, &small, false)?;
-        Ok(enlarge(&frame, opts.width, opts.height, scale))
+        let (frame, cut) = self.render_bytecode_cut(program, &settings, code, &small, 1)?;
+        // Pixels the device's loop budget cut short (lavapipe) show arbitrary colours: a
+        // preview with a few is still a preview (the final frame replaces it); one with
+        // more than a tenth of them is not, and the second pipeline that would draw it
+        // again would hold the final frame up.
+        if cut * 10 > frame.rgba.len() / 4 {
+            return Err(self.cut_short(cut, &small));
+        }
+        Ok((enlarge(&frame, opts.width, opts.height, scale), cut))
     }
 }
 

@@ -269,3 +269,50 @@ fn a_grace_delays_the_preview_and_does_not_lose_it() {
         "{report:?}"
     );
 }
+
+/// A preview that lavapipe's loop budget (65 535 trips per invocation) cuts short on more
+/// than a tenth of its pixels is skipped with the reason; one with fewer is drawn, and the
+/// report counts them. The 300-shape grid needs about 1 100 instructions per distance: on
+/// lavapipe, from close by (24x18) 63 of 432 pixels ran out, from its own camera (20x15) 2
+/// of 300. A GPU has no such budget.
+#[test]
+fn a_preview_cut_short_by_the_loop_budget_is_counted_or_skipped() {
+    let Some(shared) = renderer() else { return };
+    let grid = sdfc_tests::grid_scene(300);
+    let close = grid.replace(
+        "camera { position: [0, 20, 60], target: [0, 0, 0], fov: 50deg }",
+        "camera { position: [-1, 5, 7], target: [-2, 1.5, -2], fov: 50deg }",
+    );
+    for (name, src, (w, h)) in [("close", close, (24, 18)), ("far", grid, (20, 15))] {
+        // A renderer of its own, so that the scene's pipeline is not in its cache.
+        let r = Renderer::new().unwrap();
+        r.warm_interpreter().unwrap();
+        let c = compile(name, &src);
+        let opts = RenderOptions::sized(w, h);
+        let (frames, report) =
+            render_live(&r, c.program(), &opts, &live(Duration::ZERO, 1)).unwrap();
+        assert_eq!(frames.last().unwrap().0, Drawn::Specialised);
+        if !shared.adapter_description().software {
+            assert_eq!(report.preview_cut, 0, "{name}: {report:?}");
+        }
+        match (&report.interpreted, &report.preview_skipped) {
+            (Some(_), _) => {
+                assert!(
+                    report.preview_cut * 10 <= (w * h) as usize,
+                    "{name}: {report:?}"
+                );
+                assert_eq!(frames.len(), 2, "{name}");
+            }
+            (None, Some(why)) => assert!(
+                why.contains("loop trips") && report.preview_cut == 0,
+                "{name}: {why}"
+            ),
+            // The specialised pipeline was ready first.
+            (None, None) => {}
+        }
+        eprintln!(
+            "grid_300 {name}: preview {:?}, {} pixels cut, skipped: {:?}",
+            report.interpreted, report.preview_cut, report.preview_skipped
+        );
+    }
+}

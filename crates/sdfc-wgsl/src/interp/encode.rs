@@ -20,7 +20,8 @@ use std::fmt::{self, Write};
 
 /// Registers of the interpreter's register file (`MAX_REGISTERS` in the shader).
 pub const MAX_REGISTERS: u32 = 64;
-/// Entries of the constant pool an instruction can name (a 16-bit immediate).
+/// Entries of the constant pool an instruction can name: a 16-bit operand, constants
+/// numbered after the registers.
 pub const MAX_CONSTANTS: usize = (1 << 16) - MAX_REGISTERS as usize;
 /// Instructions of one program (distance and material together).
 pub const MAX_INSTRUCTIONS: usize = 1 << 20;
@@ -127,6 +128,11 @@ const CONST_OPERAND: u32 = 1 << 31;
 /// the bytecode.
 fn const_operand(k: u32) -> u32 {
     CONST_OPERAND | k
+}
+
+/// Whether a virtual operand is a register (not a constant of the pool).
+fn is_register(v: u32) -> bool {
+    v & CONST_OPERAND == 0
 }
 
 impl Chunk {
@@ -760,14 +766,14 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
     let virtuals = ins
         .iter()
         .flat_map(|x| x.dst.iter().chain(&x.args))
-        .filter(|&&v| v & CONST_OPERAND == 0)
+        .filter(|&&v| is_register(v))
         .max()
         .map_or(0, |&v| v as usize)
         .max(POINT as usize)
         + 1;
     let mut last_use = vec![usize::MAX; virtuals];
     for (i, x) in ins.iter().enumerate() {
-        for &a in x.args.iter().filter(|&&a| a & CONST_OPERAND == 0) {
+        for &a in x.args.iter().filter(|&&a| is_register(a)) {
             last_use[a as usize] = i;
         }
     }
@@ -780,7 +786,7 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
     for (i, x) in ins.iter().enumerate() {
         let mut args = [0u32; 4];
         for (slot, &a) in args.iter_mut().zip(&x.args) {
-            if a & CONST_OPERAND != 0 {
+            if !is_register(a) {
                 *slot = MAX_REGISTERS + (a & !CONST_OPERAND);
                 continue;
             }
@@ -791,7 +797,7 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
         }
         // Arguments read for the last time free their registers before the result takes
         // one: the interpreter reads every argument before it writes.
-        for a in x.args.iter().filter(|&&a| a & CONST_OPERAND == 0) {
+        for a in x.args.iter().filter(|&&a| is_register(a)) {
             if *a != POINT && last_use[*a as usize] == i {
                 let p = std::mem::replace(&mut phys[*a as usize], NONE);
                 if p != NONE {

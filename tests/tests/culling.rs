@@ -9,11 +9,9 @@
 //! with its box's distance: positive, and for exact shapes no more than the plain value.
 
 use sdfc_ir::eval::{eval_func, eval_func_work, Inputs};
-use sdfc_ir::ops::Op;
-use sdfc_ir::Program;
 use sdfc_reference::camera::Camera;
 use sdfc_tests::grid_scene;
-use sdfc_wgsl::{compile, Compiled, Options};
+use sdfc_wgsl::{compile, emit_validated, lower_live, Compiled, Options};
 
 /// Where the plain distance is below this, the culled one must equal it: a culled part is
 /// exact within its box's half-diagonal of its box, and no part of these scenes is smaller
@@ -33,18 +31,6 @@ fn both(src: &str) -> (Compiled, Compiled) {
     (culled, plain)
 }
 
-fn guarded_calls(p: &Program) -> usize {
-    std::iter::once(&p.distance)
-        .chain(&p.groups)
-        .map(|f| {
-            f.graph
-                .nodes()
-                .filter(|(_, n)| matches!(n.op, Op::Call { result: 0, .. }) && n.args().len() == 3)
-                .count()
-        })
-        .sum()
-}
-
 fn points(seed: u64, n: usize, lo: [f64; 3], hi: [f64; 3]) -> Vec<[f64; 3]> {
     let mut rng = sdfc_tests::SplitMix(seed);
     (0..n).map(|_| rng.point_in(lo, hi)).collect()
@@ -57,11 +43,8 @@ fn same_field(name: &str, src: &str, lo: [f64; 3], hi: [f64; 3]) {
 fn compare(name: &str, src: &str, lo: [f64; 3], hi: [f64; 3], exact: bool) {
     let (culled, plain) = both(src);
     let (c, p) = (culled.program(), plain.program());
-    assert!(
-        guarded_calls(c) > 0,
-        "{name}: no guarded call in the culled program"
-    );
-    assert_eq!(guarded_calls(p), 0, "{name}: guarded calls without culling");
+    assert!(c.culls(), "{name}: no guarded call in the culled program");
+    assert!(!p.culls(), "{name}: guarded calls without culling");
     let mut near = 0;
     for pt in points(7, 2000, lo, hi) {
         let at = Inputs::at(pt);
@@ -200,4 +183,35 @@ fn grid_of_300_shapes_culled_does_a_fifth_of_the_work() {
         wc / steps
     );
     assert!(ratio >= 5.0, "culling saves only {ratio:.2}x of the work");
+}
+
+/// The live path's lowering (`lower_live`): a large union comes with a culled program for
+/// the interpreted preview, and its own program is the plain one, whose WGSL is byte for
+/// byte what `compile` gives; with `cull` asked for, or a union too small to cull, there is
+/// one program.
+#[test]
+fn the_live_path_previews_a_large_union_culled() {
+    let grid = grid_scene(40);
+    let live = lower_live(&grid, &Options::default()).expect("lowers");
+    let preview = live.preview.as_deref().expect("a culled preview program");
+    assert!(preview.culls() && !live.stages.program.culls());
+    let wgsl = emit_validated(&live.stages.program, &Options::default()).expect("emits");
+    assert_eq!(wgsl, compile(&grid, &Options::default()).unwrap().wgsl);
+    let culling = Options {
+        cull: true,
+        ..Options::default()
+    };
+    let asked = lower_live(&grid, &culling).expect("lowers");
+    assert!(asked.preview.is_none() && asked.stages.program.culls());
+    let small = lower_live(&grid_scene(8), &Options::default()).expect("lowers");
+    assert!(small.preview.is_none() && !small.stages.program.culls());
+    // A mistake is reported as `lower` reports it.
+    let broken = "scene = spher(1);";
+    let (Err(sdfc_wgsl::Failure::Diagnostics(d)), Err(sdfc_wgsl::Failure::Diagnostics(e))) = (
+        lower_live(broken, &Options::default()),
+        sdfc_wgsl::lower(broken, &Options::default()),
+    ) else {
+        panic!("a misspelt primitive lowers");
+    };
+    assert_eq!(format!("{d:?}"), format!("{e:?}"));
 }

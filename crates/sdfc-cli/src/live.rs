@@ -3,9 +3,9 @@
 
 use crate::render::{param_overrides, render_failure, to_f32, with_device};
 use crate::{load_lowered, Outcome};
-use sdfc_ir::Program;
 use sdfc_render::output;
 use sdfc_render::{AovKind, Drawn, Frame, LiveOptions, RenderError, RenderOptions, Renderer};
+use sdfc_wgsl::Lowered;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -48,8 +48,8 @@ pub fn run(r: Request) -> Outcome {
     match renderer {
         Ok(renderer) => {
             // Never superseded here, so always an outcome.
-            let outcome = draw(&r, &renderer, &lowered.stages.program, start, &|| false)
-                .unwrap_or(Outcome::EnvError);
+            let outcome =
+                draw(&r, &renderer, &lowered, start, &|| false).unwrap_or(Outcome::EnvError);
             // The interpreter may still be warming up (its preview lost the race): no
             // thread may be inside the driver when the process ends.
             renderer.wait_for_background_work();
@@ -64,10 +64,11 @@ pub fn run(r: Request) -> Outcome {
 pub fn draw(
     r: &Request,
     renderer: &Renderer,
-    program: &Program,
+    lowered: &Lowered,
     start: Instant,
     superseded: &dyn Fn() -> bool,
 ) -> Option<Outcome> {
+    let program = &lowered.stages.program;
     let overrides = match param_overrides(program, r.params) {
         Ok(o) => o,
         Err(o) => return Some(o),
@@ -84,6 +85,7 @@ pub fn draw(
         grace: r.grace,
         preview_scale: r.preview_scale,
         emit: r.emit(),
+        preview: lowered.preview.clone(),
     };
     let scale = live.preview_scale_on(renderer);
     let mut write_error = None;

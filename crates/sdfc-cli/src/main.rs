@@ -129,14 +129,15 @@ pub fn load_lowered(
     lower_source(path, &read_source(path)?, opts)
 }
 
-/// Parses and lowers the text of a scene file, as [`load_lowered`].
+/// Parses and lowers the text of a scene file, as [`load_lowered`], for the live path: with
+/// the culled program the interpreted preview draws (`sdfc_wgsl::lower_live`).
 pub fn lower_source(
     path: &Path,
     source: &str,
     opts: &sdfc_wgsl::Options,
 ) -> Result<sdfc_wgsl::Lowered, Outcome> {
     let name = path.display().to_string();
-    match sdfc_wgsl::lower(source, opts) {
+    match sdfc_wgsl::lower_live(source, opts) {
         Ok(l) => {
             report::diagnostics(&name, source, &l.warnings);
             Ok(l)

@@ -35,8 +35,9 @@ pub struct Args {
     /// bytecode, instead of a shader specialised to the scene (the same picture, slower)
     #[arg(long)]
     interpreted: bool,
-    /// Compile large unions with bounding-box early-outs, as `sdfc compile --cull`
-    #[arg(long, conflicts_with = "interpreted")]
+    /// Compile large unions with bounding-box early-outs, as `sdfc compile --cull`; with
+    /// --interpreted, the bytecode jumps over the parts those early-outs skip
+    #[arg(long)]
     cull: bool,
     /// A first picture as soon as possible: if the scene's specialised pipeline is not built
     /// within the grace period, the interpreted marcher draws a preview into OUT while it

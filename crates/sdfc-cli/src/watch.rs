@@ -46,7 +46,7 @@ pub fn run(r: &Request) -> Outcome {
                             let current = last.as_deref().unwrap_or_default();
                             let changed = Changed::new(r.scene, current, r.emit());
                             let superseded = || changed.since();
-                            match draw(r, &renderer, &lowered.stages.program, start, &superseded) {
+                            match draw(r, &renderer, &lowered, start, &superseded) {
                                 // Input errors (a param the scene no longer has) wait for the
                                 // next change; the device or the output failing ends the loop.
                                 Some(Outcome::EnvError) => {

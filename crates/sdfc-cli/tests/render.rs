@@ -764,7 +764,8 @@ fn bench_of_a_broken_scene_is_an_input_error() {
 }
 
 /// `--cull` renders a large union through its bounding-box hierarchy: the same hits, and
-/// depths to 1e-4 relative (the culled field is exact near the surface), as without it.
+/// depths to 1e-4 relative (the culled field is exact near the surface), as without it; so
+/// does the interpreted marcher with `--cull` (its bytecode jumps over the skipped parts).
 #[test]
 fn cull_renders_the_same_depths() {
     if !have_device() {
@@ -779,8 +780,16 @@ fn cull_renders_the_same_depths() {
     }
     src += ");\n";
     let scene = t.write("u.sdf", &src);
-    let (plain, culled) = (t.path("plain.npy"), t.path("culled.npy"));
-    for (out, extra) in [(&plain, None), (&culled, Some("--cull"))] {
+    let (plain, culled, interp) = (
+        t.path("plain.npy"),
+        t.path("culled.npy"),
+        t.path("interp.npy"),
+    );
+    for (out, extra) in [
+        (&plain, &[][..]),
+        (&culled, &["--cull"][..]),
+        (&interp, &["--cull", "--interpreted"][..]),
+    ] {
         let mut args = vec![
             "render",
             s(&scene),
@@ -795,20 +804,22 @@ fn cull_renders_the_same_depths() {
         sdfc_in(&t.0, &args).expect_code(0);
     }
     let (_, a) = read_npy(&plain);
-    let (_, b) = read_npy(&culled);
     let hits = a.iter().filter(|d| d.is_finite()).count();
     assert!(hits > 50, "only {hits} hits");
-    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
-        assert_eq!(
-            x.is_finite(),
-            y.is_finite(),
-            "pixel {i}: plain {x}, culled {y}"
-        );
-        if x.is_finite() {
-            assert!(
-                (x - y).abs() <= 1e-4 * x,
-                "pixel {i}: plain {x}, culled {y}"
+    for (name, path) in [("culled", &culled), ("interpreted culled", &interp)] {
+        let (_, b) = read_npy(path);
+        for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert_eq!(
+                x.is_finite(),
+                y.is_finite(),
+                "pixel {i}: plain {x}, {name} {y}"
             );
+            if x.is_finite() {
+                assert!(
+                    (x - y).abs() <= 1e-4 * x,
+                    "pixel {i}: plain {x}, {name} {y}"
+                );
+            }
         }
     }
 }

@@ -47,6 +47,20 @@ pub struct Program {
     pub relative: Option<Relative>,
 }
 
+impl Program {
+    /// Whether the distance reaches a culled union (`IrOptions::cull` found one to cull): a
+    /// group call guarded by a part's box and the best distance so far (`to_ssa/cull.rs`).
+    pub fn culls(&self) -> bool {
+        std::iter::once(&self.distance)
+            .chain(&self.groups)
+            .any(|f| {
+                f.graph
+                    .nodes()
+                    .any(|(_, n)| matches!(n.op, ops::Op::Call { .. }) && n.args().len() == 3)
+            })
+    }
+}
+
 /// The scene functions in coordinates centred on `origin` (the camera position): each takes
 /// a point q and gives the world function's value at q + origin.
 #[derive(Clone, Debug)]

@@ -2,6 +2,8 @@
 //! live editor after start-up): the specialised path alone (compile, build the pipeline,
 //! render) against the live path (`render_live`: lower, then the interpreted preview while
 //! the specialised pipeline builds), with no grace (the default) and with 250 ms of grace.
+//! As `sdfc render --live`, the preview draws the scene lowered with culling
+//! (`sdfc_wgsl::lower_live`); the specialised shader culls only with `SDFC_BENCH_CULL=1`.
 //! The specialised path and each of the two live settings have a renderer of their own, so
 //! a scene's pipeline is never in the in-process cache when it is measured; the live ones
 //! warm the interpreter once, before the first scene.
@@ -39,6 +41,11 @@ fn main() {
     if std::env::var("SDFC_BENCH_5000").is_ok_and(|v| v == "1") {
         scenes.push("grid_5000");
     }
+    // `SDFC_BENCH_CULL=1`: both paths with bounding-box early-outs (`--cull`).
+    let emit = sdfc_wgsl::Options {
+        cull: std::env::var("SDFC_BENCH_CULL").is_ok_and(|v| v == "1"),
+        ..Default::default()
+    };
     let start = Instant::now();
     let probe = warm_renderer();
     println!("adapter: {}", probe.adapter_description());
@@ -57,20 +64,22 @@ fn main() {
 
         let r = Renderer::new().unwrap_or_else(|e| panic!("cannot render: {e}"));
         let t = Instant::now();
-        let c = sdfc_wgsl::compile(&src, &Default::default())
-            .unwrap_or_else(|_| panic!("{name} does not compile"));
+        let c =
+            sdfc_wgsl::compile(&src, &emit).unwrap_or_else(|_| panic!("{name} does not compile"));
         r.render(&c, &opts).expect("render");
         let specialised = t.elapsed();
         drop(r);
 
         let live = |r: &Renderer, grace: Duration| {
             let t = Instant::now();
-            let lowered = sdfc_wgsl::lower(&src, &Default::default())
+            let lowered = sdfc_wgsl::lower_live(&src, &emit)
                 .unwrap_or_else(|_| panic!("{name} does not lower"));
             let lowered_at = t.elapsed();
             let options = LiveOptions {
                 start: t,
                 grace,
+                emit: emit.clone(),
+                preview: lowered.preview.clone(),
                 ..LiveOptions::default()
             };
             let (_, report) = r

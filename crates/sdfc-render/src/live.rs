@@ -49,6 +49,10 @@ pub struct LiveOptions {
     pub preview_scale: Option<u32>,
     /// How the specialised shader is emitted (`cull`).
     pub emit: sdfc_wgsl::Options,
+    /// The program the interpreter draws the preview from, where it is not the one
+    /// specialised: the scene lowered with culling (`sdfc_wgsl::lower_live`), whose bytecode
+    /// jumps over the parts of a large union a step does not need. `None`: the same program.
+    pub preview: Option<Arc<Program>>,
 }
 
 impl Default for LiveOptions {
@@ -59,6 +63,7 @@ impl Default for LiveOptions {
             grace: Duration::ZERO,
             preview_scale: None,
             emit: sdfc_wgsl::Options::default(),
+            preview: None,
         }
     }
 }
@@ -153,6 +158,7 @@ impl Renderer {
         let mut code = None;
         let (mut interpreted, mut preview_skipped) = (None, None);
         let mut preview_cut = 0;
+        let previewed = live.preview.as_deref().unwrap_or(program);
         let (built, pipeline_ready) = loop {
             if superseded() {
                 abandoned.store(true, Ordering::Relaxed);
@@ -161,7 +167,7 @@ impl Renderer {
             // The interpreter starts as soon as the grace is over, not a poll later.
             let now = Instant::now();
             if let Some(tx) = tx.take_if(|_| preview_at.is_some_and(|at| now >= at)) {
-                match self.interpreter_for(program) {
+                match self.interpreter_for(previewed) {
                     Err(why) => preview_skipped = Some(why),
                     Ok(c) => {
                         code = Some(c);
@@ -193,7 +199,7 @@ impl Renderer {
                         abandoned.store(true, Ordering::Relaxed);
                         return Ok(None);
                     }
-                    match self.preview(program, code, opts, live) {
+                    match self.preview(previewed, code, opts, live) {
                         Ok((frame, cut)) => {
                             preview_cut = cut;
                             interpreted = Some(live.start.elapsed());

@@ -92,7 +92,9 @@ pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
 
 /// As [`compile`], on the calling thread's stack.
 pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
-    let Lowered { stages, warnings } = lower_here(source, opts)?;
+    let Lowered {
+        stages, warnings, ..
+    } = lower_here(source, opts)?;
     let wgsl = emit_validated(&stages.program, opts)?;
     Ok(Compiled {
         wgsl,
@@ -106,6 +108,11 @@ pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
 pub struct Lowered {
     pub stages: Stages,
     pub warnings: Vec<Diagnostic>,
+    /// From [`lower_live`]: the scene lowered with culling for the interpreted preview, where
+    /// that differs from `stages.program` (a union large enough to cull, and `cull` not
+    /// asked for). The interpreter's skips pay wherever neighbouring pixels take them alike,
+    /// on lavapipe too, whose `if`s do not branch (docs/performance.md).
+    pub preview: Option<std::sync::Arc<Program>>,
 }
 
 /// The front half of [`compile`]: parses, lowers and optimises. Never panics on any input.
@@ -114,12 +121,67 @@ pub fn lower(source: &str, opts: &Options) -> Result<Lowered, Failure> {
     on_compiler_stack(|| lower_here(source, opts))
 }
 
+/// [`lower`] for the live path: also the culled program the interpreted preview draws
+/// ([`Lowered::preview`]). Both are lowered from one parse, at once on two threads (the
+/// preview waits for both; the 5 000-shape union's two take about as long as one).
+pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
+    on_compiler_stack(|| {
+        let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
+        if opts.cull {
+            return lower_parsed(&file, source.len(), opts);
+        }
+        let culling = Options {
+            cull: true,
+            ..opts.clone()
+        };
+        let (culled, plain) = std::thread::scope(|s| {
+            let plain = std::thread::Builder::new()
+                .name("sdfc-compile-plain".into())
+                .stack_size(STACK_BYTES)
+                .spawn_scoped(s, || lower_parsed(&file, source.len(), opts));
+            let culled = lower_parsed(&file, source.len(), &culling);
+            let plain = match plain {
+                Ok(handle) => handle.join().unwrap_or_else(|_| {
+                    Err(Failure::Internal {
+                        report: "the compiler panicked".into(),
+                        wgsl: String::new(),
+                    })
+                }),
+                // No second thread: one after the other.
+                Err(_) => lower_parsed(&file, source.len(), opts),
+            };
+            (culled, plain)
+        });
+        let (culled, plain) = (culled?, plain?);
+        Ok(Lowered {
+            preview: culled
+                .stages
+                .program
+                .culls()
+                .then(|| std::sync::Arc::new(culled.stages.program)),
+            ..plain
+        })
+    })
+}
+
 fn lower_here(source: &str, opts: &Options) -> Result<Lowered, Failure> {
     let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
+    lower_parsed(&file, source.len(), opts)
+}
+
+fn lower_parsed(
+    file: &sdfc_syntax::ast::File,
+    source_len: usize,
+    opts: &Options,
+) -> Result<Lowered, Failure> {
     let ir = sdfc_ir::IrOptions { cull: opts.cull };
-    let (stages, warnings) = sdfc_ir::compile_with(&file, source.len(), &ir);
+    let (stages, warnings) = sdfc_ir::compile_with(file, source_len, &ir);
     match stages {
-        Some(stages) => Ok(Lowered { stages, warnings }),
+        Some(stages) => Ok(Lowered {
+            stages,
+            warnings,
+            preview: None,
+        }),
         None => Err(Failure::Diagnostics(warnings)),
     }
 }

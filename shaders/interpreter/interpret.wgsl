@@ -1,7 +1,8 @@
 // The register machine. Instruction i is code[i] = (opcode, dst | imm << 16, a0 | a1 << 16,
 // a2 | a3 << 16); registers are vec4<f32>, a scalar splatted in all four lanes, a boolean
 // as 1.0 / 0.0; register 0 holds the point. An operand from MAX_REGISTERS on is a constant
-// of the pool (`operand`). Code runs straight on, except where a culled
+// of the pool (`operand`); with OP_FOLDED_SUB set in the opcode word, the first argument is
+// a - d. Code runs straight on, except where a culled
 // union's part is skipped (`OP_SKIP_UNLESS_LESS`, forward only). The last instruction of a
 // range is `ret`, whose first two arguments are the results: it is read after the loop
 // rather than returned from inside the switch, which keeps the loop free of early exits
@@ -47,12 +48,16 @@ fn execute(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, at: u32) -> u32
     let ins = code[pc];
     let dst = ins.y & 0xffffu;
     let imm = ins.y >> 16u;
-    let a = operand(regs, ins.z & 0xffffu);
     let b = operand(regs, ins.z >> 16u);
     let c = operand(regs, ins.w & 0xffffu);
     let d = operand(regs, ins.w >> 16u);
+    // A translated shape's point, `p - offset`, is computed here rather than by an
+    // instruction of its own (OP_FOLDED_SUB; such an instruction reads at most three
+    // arguments, so `d` is free to hold the offset).
+    let first = operand(regs, ins.z & 0xffffu);
+    let a = select(first, first - d, (ins.x & OP_FOLDED_SUB) != 0u);
     var r = vec4<f32>(0.0);
-    switch ins.x {
+    switch ins.x & ~OP_FOLDED_SUB {
         // Only ever last: read after the loop.
         case OP_RET: {}
         case OP_PARAM: { r = data[frame.params_at + imm]; }

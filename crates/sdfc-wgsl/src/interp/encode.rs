@@ -8,7 +8,7 @@
 //! Registers are reused after the last read of their value (linear scan over the straight
 //! line code); register 0 holds the point `p` throughout.
 
-use super::opcodes::{builtin_opcode, helper_opcode, Opcode};
+use super::opcodes::{builtin_opcode, decode, helper_opcode, Opcode, FOLDED_SUB};
 use sdfc_ir::func::Func;
 use sdfc_ir::graph::{Graph, NodeId};
 use sdfc_ir::ops::{Builtin, Op, NO_BEST};
@@ -99,6 +99,8 @@ struct VIns {
     dst: Option<u32>,
     args: Vec<u32>,
     imm: u32,
+    /// The first argument is `args[0] - args[3]` ([`FOLDED_SUB`], [`fold_translations`]).
+    folded: bool,
 }
 
 /// Encoding state shared by the two functions: the constant pool.
@@ -174,6 +176,7 @@ impl Chunk {
             dst: Some(dst),
             args: args.to_vec(),
             imm,
+            folded: false,
         });
         dst
     }
@@ -209,9 +212,10 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         dst: None,
         args: vec![d],
         imm: 0,
+        folded: false,
     });
     let start = code.len() as u32;
-    registers = registers.max(allocate(&chunk.ins, &mut code)?);
+    registers = registers.max(allocate(&fold_translations(chunk.ins), &mut code)?);
     let distance = [start, code.len() as u32];
 
     let mut chunk = Chunk::new();
@@ -235,9 +239,10 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         dst: None,
         args: vec![albedo, phong],
         imm: 0,
+        folded: false,
     });
     let start = code.len() as u32;
-    registers = registers.max(allocate(&chunk.ins, &mut code)?);
+    registers = registers.max(allocate(&fold_translations(chunk.ins), &mut code)?);
     let material = [start, code.len() as u32];
 
     if code.len() > MAX_INSTRUCTIONS {
@@ -444,6 +449,7 @@ impl Encoder<'_> {
             dst: None,
             args: vec![bound, best],
             imm: 0,
+            folded: false,
         });
         let inputs = Inputs {
             point: inputs.point,
@@ -457,6 +463,7 @@ impl Encoder<'_> {
                 dst: Some(dst),
                 args: vec![v],
                 imm: 0,
+                folded: false,
             });
         }
         // A load inside the part is not made where it was skipped.
@@ -758,19 +765,95 @@ fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
     order
 }
 
-/// Maps virtual registers to physical ones (reused after their value's last read), appends
-/// the instructions to `code`; returns how many registers they use.
-fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> {
-    // Virtual registers are small dense numbers: tables indexed by them, not maps.
-    const NONE: u32 = u32::MAX;
-    let virtuals = ins
-        .iter()
+/// How many virtual registers the instructions name (the point's included): the size of
+/// tables indexed by them.
+fn virtual_registers(ins: &[VIns]) -> usize {
+    ins.iter()
         .flat_map(|x| x.dst.iter().chain(&x.args))
         .filter(|&&v| is_register(v))
         .max()
         .map_or(0, |&v| v as usize)
         .max(POINT as usize)
-        + 1;
+        + 1
+}
+
+/// Whether an instruction can take a folded `sub` as its first argument: it reads at most
+/// three arguments (the offset goes in the fourth slot) and computes with the first.
+fn takes_folded(x: &VIns) -> bool {
+    !x.folded
+        && x.args.len() <= 3
+        && (1..=3).contains(&arity(x.op))
+        && !matches!(x.op, Opcode::Ret | Opcode::SkipUnlessLess | Opcode::Mov)
+}
+
+/// Folds each `v = sub point k` (a shape translated by a constant offset) into the
+/// instructions that read `v`, where every one of them reads it as its first argument only
+/// and has a free fourth slot for `k`: they compute `point - k` as they fetch (the same f32
+/// subtraction), and the `sub` goes. The point is always live and `k` is a constant, so no
+/// register lives longer. Skips are re-aimed past the same instructions.
+fn fold_translations(mut ins: Vec<VIns>) -> Vec<VIns> {
+    let virtuals = virtual_registers(&ins);
+    let mut writes = vec![0u32; virtuals];
+    let mut foldable = vec![true; virtuals];
+    for x in &ins {
+        if let Some(d) = x.dst {
+            writes[d as usize] += 1;
+        }
+        for (slot, &a) in x.args.iter().enumerate() {
+            if is_register(a) && (slot != 0 || !takes_folded(x)) {
+                foldable[a as usize] = false;
+            }
+        }
+    }
+    let mut offset = vec![None; virtuals];
+    let mut keep = vec![true; ins.len()];
+    for (i, x) in ins.iter().enumerate() {
+        if let (Opcode::Sub, Some(d), false, [POINT, k]) = (x.op, x.dst, x.folded, &x.args[..]) {
+            let d = d as usize;
+            if !is_register(*k) && writes[d] == 1 && foldable[d] && d != POINT as usize {
+                offset[d] = Some(*k);
+                keep[i] = false;
+            }
+        }
+    }
+    for x in &mut ins {
+        let Some(&first) = x.args.first() else {
+            continue;
+        };
+        if let Some(k) = is_register(first).then(|| offset[first as usize]).flatten() {
+            x.args[0] = POINT;
+            x.args.resize(3, POINT);
+            x.args.push(k);
+            x.folded = true;
+        }
+    }
+    // Where each instruction lands (and where the end does): a skip jumps over as many
+    // kept instructions as before.
+    let mut at = Vec::with_capacity(ins.len() + 1);
+    let mut n = 0u32;
+    for &k in &keep {
+        at.push(n);
+        n += k as u32;
+    }
+    at.push(n);
+    for (i, x) in ins.iter_mut().enumerate() {
+        if x.op == Opcode::SkipUnlessLess && x.imm > 0 {
+            let target = i + 1 + x.imm as usize;
+            x.imm = at[target] - at[i] - 1;
+        }
+    }
+    ins.into_iter()
+        .zip(keep)
+        .filter_map(|(x, k)| k.then_some(x))
+        .collect()
+}
+
+/// Maps virtual registers to physical ones (reused after their value's last read), appends
+/// the instructions to `code`; returns how many registers they use.
+fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> {
+    // Virtual registers are small dense numbers: tables indexed by them, not maps.
+    const NONE: u32 = u32::MAX;
+    let virtuals = virtual_registers(ins);
     let mut last_use = vec![usize::MAX; virtuals];
     for (i, x) in ins.iter().enumerate() {
         for &a in x.args.iter().filter(|&&a| is_register(a)) {
@@ -833,7 +916,7 @@ fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> 
             )));
         }
         code.push([
-            x.op.code(),
+            x.op.code() | if x.folded { FOLDED_SUB } else { 0 },
             dst | (x.imm << 16),
             args[0] | (args[1] << 16),
             args[2] | (args[3] << 16),
@@ -860,21 +943,22 @@ impl Bytecode {
             let _ = writeln!(s, "{name}:");
             for pc in start..end {
                 let [op, d, a01, a23] = self.code[pc as usize];
-                let op = Opcode::ALL.iter().find(|o| o.code() == op);
+                let (op, folded) = decode(op);
                 let (dst, imm) = (d & 0xffff, d >> 16);
                 let args = [a01 & 0xffff, a01 >> 16, a23 & 0xffff, a23 >> 16];
                 let Some(op) = op else {
                     let _ = writeln!(s, "  {pc:4}: ?{}", self.code[pc as usize][0]);
                     continue;
                 };
-                let n = arity(*op);
-                let regs: Vec<String> = args[..n]
-                    .iter()
-                    .map(|&r| match r.checked_sub(MAX_REGISTERS) {
-                        Some(k) => format!("c{k}"),
-                        None => format!("r{r}"),
-                    })
-                    .collect();
+                let n = arity(op);
+                let name = |r: u32| match r.checked_sub(MAX_REGISTERS) {
+                    Some(k) => format!("c{k}"),
+                    None => format!("r{r}"),
+                };
+                let mut regs: Vec<String> = args[..n].iter().map(|&r| name(r)).collect();
+                if folded {
+                    regs[0] = format!("({} - {})", regs[0], name(args[3]));
+                }
                 let imm = match op {
                     Opcode::Param => format!(" #{imm}"),
                     Opcode::Swizzle => format!(
@@ -942,9 +1026,11 @@ mod tests {
             let mut skipped: Vec<(u32, Vec<bool>)> = Vec::new();
             for pc in start..end {
                 let [op, d, a01, a23] = code.code[pc as usize];
-                let op = *Opcode::ALL.iter().find(|o| o.code() == op).unwrap();
+                let (op, folded) = decode(op);
+                let op = op.unwrap();
                 let args = [a01 & 0xffff, a01 >> 16, a23 & 0xffff, a23 >> 16];
-                for &r in args[..arity(op)].iter().filter(|&&r| r < MAX_REGISTERS) {
+                let read = args[..arity(op)].iter().chain(folded.then_some(&args[3]));
+                for &r in read.filter(|&&r| r < MAX_REGISTERS) {
                     assert!(
                         written[r as usize],
                         "{name}: {func} instruction {pc} ({}) reads r{r} before any write\n{}",
@@ -1074,5 +1160,49 @@ mod tests {
                 reads_only_written_registers(&p.display().to_string(), &src, cull);
             }
         }
+    }
+
+    /// The distance function's instructions, decoded.
+    fn distance_ops(src: &str) -> (Bytecode, Vec<(Option<Opcode>, bool)>) {
+        let c = crate::compile(src, &Default::default()).unwrap();
+        let code = encode(c.program()).unwrap();
+        let [start, end] = code.distance;
+        let ops = code.code[start as usize..end as usize]
+            .iter()
+            .map(|i| decode(i[0]))
+            .collect();
+        (code, ops)
+    }
+
+    /// A shape moved by a constant offset takes the moved point as it fetches its argument:
+    /// no `sub` of its own, the same distance. An offset from a param is a register, and
+    /// stays an instruction.
+    #[test]
+    fn a_constant_translation_is_folded_into_its_readers() {
+        let (code, ops) = distance_ops("scene = sphere(1).translate([1, 2, 3]);");
+        assert!(
+            !ops.contains(&(Some(Opcode::Sub), false)),
+            "{}",
+            code.listing()
+        );
+        assert!(
+            ops.contains(&(Some(Opcode::SdSphere), true)),
+            "{}",
+            code.listing()
+        );
+        let at = |code: &Bytecode, p: [f32; 3], params: &[[f32; 4]]| {
+            super::super::exec::run(code, super::super::exec::Function::Distance, p, params, 0.0)
+                .unwrap()[0][0]
+        };
+        assert_eq!(at(&code, [1.0, 2.0, 5.0], &[]), 1.0);
+        assert_eq!(at(&code, [1.0, 2.0, 3.0], &[]), -1.0);
+        let (code, ops) = distance_ops("param o = [1, 2, 3];\nscene = sphere(1).translate(o);");
+        assert!(
+            ops.contains(&(Some(Opcode::Sub), false)),
+            "{}",
+            code.listing()
+        );
+        assert!(ops.iter().all(|o| !o.1), "{}", code.listing());
+        assert_eq!(at(&code, [1.0, 2.0, 5.0], &[[1.0, 2.0, 3.0, 0.0]]), 1.0);
     }
 }

@@ -7,7 +7,7 @@
 //! helper's `case` line in the shader, so the two cannot drift apart.
 
 use super::encode::{arity, Bytecode, MAX_REGISTERS};
-use super::opcodes::{builtin_opcode, helper_opcode, Opcode};
+use super::opcodes::{builtin_opcode, decode, helper_opcode, Opcode};
 use super::INTERPRET;
 use sdfc_ir::eval::apply;
 use sdfc_ir::ops::{Builtin, Helper, Op};
@@ -50,11 +50,15 @@ pub fn run(
             reg(w & 0xffff)?,
             reg(w >> 16)?,
         );
-        let op = Opcode::ALL
-            .iter()
-            .copied()
-            .find(|o| o.code() == op)
-            .ok_or_else(|| format!("unknown opcode {op} at {pc}"))?;
+        let (Some(op), folded) = decode(op) else {
+            return Err(format!("unknown opcode {op} at {pc}"));
+        };
+        // A folded translation: the first argument is `a - d`, as the shader fetches it.
+        let a = if folded {
+            std::array::from_fn(|i| a[i] - d[i])
+        } else {
+            a
+        };
         let r = execute(op, imm, [a, b, c, d], params, time)
             .ok_or_else(|| format!("{} at {pc}", op.mnemonic()))?;
         // `!(a < b)`, as the shader says it: NaN skips too.

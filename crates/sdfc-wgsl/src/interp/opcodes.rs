@@ -195,6 +195,11 @@ pub fn builtin_opcode(b: Builtin) -> Option<Opcode> {
     })
 }
 
+/// Set in an instruction's opcode word: its first argument is `a - d`, not `a`. A translated
+/// shape's `sub` of the point and its offset, folded into the instructions that read it
+/// (`encode::fold_translations`): one trip of the interpreter's loop less for each.
+pub const FOLDED_SUB: u32 = 1 << 31;
+
 /// `const OP_*: u32 = N;` for every opcode: the WGSL side's numbering.
 pub fn wgsl_constants() -> String {
     let mut s = String::from(
@@ -203,5 +208,16 @@ pub fn wgsl_constants() -> String {
     for op in Opcode::ALL {
         let _ = writeln!(s, "const {}: u32 = {}u;", op.wgsl_name(), op.code());
     }
+    let _ = writeln!(s, "const OP_FOLDED_SUB: u32 = {FOLDED_SUB}u;");
     s
+}
+
+/// The opcode of an instruction's opcode word, and whether its first argument is `a - d`
+/// ([`FOLDED_SUB`]).
+pub fn decode(word: u32) -> (Option<Opcode>, bool) {
+    let code = word & !FOLDED_SUB;
+    (
+        Opcode::ALL.iter().copied().find(|o| o.code() == code),
+        word & FOLDED_SUB != 0,
+    )
 }

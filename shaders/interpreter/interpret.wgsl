@@ -109,6 +109,7 @@ fn execute(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, at: u32) -> u32
         case OP_DEGREES: { r = degrees(a); }
         case OP_LENGTH2: { r = vec4<f32>(length(a.xy)); }
         case OP_LENGTH3: { r = vec4<f32>(length(a.xyz)); }
+        case OP_FAR_CORNER: { r = vec4<f32>(length(abs(a.xyz) + b.xyz)); }
         case OP_LENGTH4: { r = vec4<f32>(length(a)); }
         case OP_DOT2: { r = vec4<f32>(dot(a.xy, b.xy)); }
         case OP_DOT3: { r = vec4<f32>(dot(a.xyz, b.xyz)); }

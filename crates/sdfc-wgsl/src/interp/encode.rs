@@ -215,7 +215,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         folded: false,
     });
     let start = code.len() as u32;
-    registers = registers.max(allocate(&fold_translations(chunk.ins), &mut code)?);
+    registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
     let distance = [start, code.len() as u32];
 
     let mut chunk = Chunk::new();
@@ -242,7 +242,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         folded: false,
     });
     let start = code.len() as u32;
-    registers = registers.max(allocate(&fold_translations(chunk.ins), &mut code)?);
+    registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
     let material = [start, code.len() as u32];
 
     if code.len() > MAX_INSTRUCTIONS {
@@ -765,6 +765,12 @@ fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
     order
 }
 
+/// The peephole folds, in order: translations first, so that a bound's `abs` carries its
+/// own into the `far_corner`.
+fn fold(ins: Vec<VIns>) -> Vec<VIns> {
+    fold_far_corners(fold_translations(ins))
+}
+
 /// How many virtual registers the instructions name (the point's included): the size of
 /// tables indexed by them.
 fn virtual_registers(ins: &[VIns]) -> usize {
@@ -827,11 +833,79 @@ fn fold_translations(mut ins: Vec<VIns>) -> Vec<VIns> {
             x.folded = true;
         }
     }
-    // Where each instruction lands (and where the end does): a skip jumps over as many
-    // kept instructions as before.
+    kept(ins, &keep)
+}
+
+/// Folds each culled part's bound `length3(add(abs(x), k))` (`k` a constant, each
+/// intermediate read once) into one `far_corner x k` (the same f32 operations), the `abs`
+/// keeping its folded translation. `x` must be written once (or be the point), so that it
+/// holds the same value where the `length3` stood.
+fn fold_far_corners(mut ins: Vec<VIns>) -> Vec<VIns> {
+    let virtuals = virtual_registers(&ins);
+    let (mut writes, mut reads) = (vec![0u32; virtuals], vec![0u32; virtuals]);
+    let mut def = vec![usize::MAX; virtuals];
+    for (i, x) in ins.iter().enumerate() {
+        if let Some(d) = x.dst {
+            writes[d as usize] += 1;
+            def[d as usize] = i;
+        }
+        for &a in x.args.iter().filter(|&&a| is_register(a)) {
+            reads[a as usize] += 1;
+        }
+    }
+    // The instruction defining a register read only once, by its reader.
+    let once = |v: u32| {
+        let v = v as usize;
+        (is_register(v as u32) && v != POINT as usize && writes[v] == 1 && reads[v] == 1)
+            .then_some(def[v])
+    };
+    let mut keep = vec![true; ins.len()];
+    for l in 0..ins.len() {
+        let x = &ins[l];
+        if x.op != Opcode::Length3 || x.folded {
+            continue;
+        }
+        let Some(j) = x.args.first().and_then(|&v| once(v)) else {
+            continue;
+        };
+        let add = &ins[j];
+        if add.op != Opcode::Add || add.folded {
+            continue;
+        }
+        let (t, k) = match add.args[..] {
+            [t, k] if !is_register(k) => (t, k),
+            [k, t] if !is_register(k) => (t, k),
+            _ => continue,
+        };
+        let Some(i) = once(t) else { continue };
+        let abs = &ins[i];
+        let source = abs.args[0];
+        let stable = !is_register(source) || source == POINT || writes[source as usize] == 1;
+        if abs.op != Opcode::Abs || !stable {
+            continue;
+        }
+        let mut args = vec![source, k];
+        if abs.folded {
+            args.extend([POINT, abs.args[3]]);
+        }
+        let folded = abs.folded;
+        let x = &mut ins[l];
+        x.op = Opcode::FarCorner;
+        x.args = args;
+        x.folded = folded;
+        keep[i] = false;
+        keep[j] = false;
+    }
+    kept(ins, &keep)
+}
+
+/// The instructions marked kept, with each skip re-aimed to jump over as many kept
+/// instructions as before.
+fn kept(mut ins: Vec<VIns>, keep: &[bool]) -> Vec<VIns> {
+    // Where each instruction lands (and where the end does).
     let mut at = Vec::with_capacity(ins.len() + 1);
     let mut n = 0u32;
-    for &k in &keep {
+    for &k in keep {
         at.push(n);
         n += k as u32;
     }
@@ -844,7 +918,7 @@ fn fold_translations(mut ins: Vec<VIns>) -> Vec<VIns> {
     }
     ins.into_iter()
         .zip(keep)
-        .filter_map(|(x, k)| k.then_some(x))
+        .filter_map(|(x, &k)| k.then_some(x))
         .collect()
 }
 

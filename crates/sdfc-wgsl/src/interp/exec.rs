@@ -159,6 +159,7 @@ fn execute(
         ],
         O::Length2 => splat(len(&a[..2])),
         O::Length3 => splat(len(&a[..3])),
+        O::FarCorner => splat(len(&[0, 1, 2].map(|i| a[i].abs() + b[i]))),
         O::Length4 => splat(len(&a)),
         O::Dot2 => splat(dot(&a[..2], &b[..2])),
         O::Dot3 => splat(dot(&a[..3], &b[..3])),

@@ -102,6 +102,9 @@ opcodes! {
     Normalize3 = 77, "OP_NORMALIZE3", "normalize3";
     Normalize4 = 78, "OP_NORMALIZE4", "normalize4";
     Cross = 79, "OP_CROSS", "cross";
+    // length(abs(a.xyz) + b.xyz): a culled part's farthest corner from the point, the
+    // `abs`, `add` and `length3` of its bound in one trip (`encode::fold_far_corners`).
+    FarCorner = 80, "OP_FAR_CORNER", "far_corner";
     // Distance helpers (`shaders/prims`, `shaders/transforms`, `shaders/noise.wgsl`).
     SdSphere = 100, "OP_SD_SPHERE", "sd_sphere";
     SdBox = 101, "OP_SD_BOX", "sd_box";

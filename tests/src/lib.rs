@@ -150,6 +150,27 @@ impl SplitMix {
     }
 }
 
+/// Asserts that two depth images (inf, or any non-finite value, on a miss) have the same hit
+/// or miss at every pixel and, where both hit, depths within `relative` of `expected`'s;
+/// returns the number of hits. `what` names the image under test in the messages.
+pub fn assert_same_depths(expected: &[f32], actual: &[f32], relative: f32, what: &str) -> usize {
+    assert_eq!(expected.len(), actual.len(), "{what}: image sizes differ");
+    for (i, (e, a)) in expected.iter().zip(actual).enumerate() {
+        assert_eq!(
+            e.is_finite(),
+            a.is_finite(),
+            "pixel {i}: expected {e}, {what} {a}"
+        );
+        if e.is_finite() {
+            assert!(
+                (e - a).abs() <= relative * e,
+                "pixel {i}: expected {e}, {what} {a}"
+            );
+        }
+    }
+    expected.iter().filter(|d| d.is_finite()).count()
+}
+
 /// A scene of the performance suite by name: `sphere`, `grid_300`, `grid_5000` (generated
 /// by [`grid_scene`]), or an example of `examples/` (`spec_section10`, `terrain`,
 /// `fractals`, ...).

@@ -135,18 +135,10 @@ pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
             ..opts.clone()
         };
         let (culled, plain) = std::thread::scope(|s| {
-            let plain = std::thread::Builder::new()
-                .name("sdfc-compile-plain".into())
-                .stack_size(STACK_BYTES)
-                .spawn_scoped(s, || lower_parsed(&file, source.len(), opts));
+            let plain = compiler_thread(s, || lower_parsed(&file, source.len(), opts));
             let culled = lower_parsed(&file, source.len(), &culling);
             let plain = match plain {
-                Ok(handle) => handle.join().unwrap_or_else(|_| {
-                    Err(Failure::Internal {
-                        report: "the compiler panicked".into(),
-                        wgsl: String::new(),
-                    })
-                }),
+                Ok(handle) => joined(handle),
                 // No second thread: one after the other.
                 Err(_) => lower_parsed(&file, source.len(), opts),
             };
@@ -192,21 +184,32 @@ pub fn on_compiler_stack<T: Send>(
     f: impl FnOnce() -> Result<T, Failure> + Send,
 ) -> Result<T, Failure> {
     std::thread::scope(|s| {
-        std::thread::Builder::new()
-            .name("sdfc-compile".into())
-            .stack_size(STACK_BYTES)
-            .spawn_scoped(s, f)
-            .map_err(|e| Failure::Internal {
-                report: format!("could not start the compiler thread: {e}"),
-                wgsl: String::new(),
-            })?
-            .join()
-            .unwrap_or_else(|_| {
-                Err(Failure::Internal {
-                    report: "the compiler panicked".into(),
-                    wgsl: String::new(),
-                })
-            })
+        let handle = compiler_thread(s, f).map_err(|e| Failure::Internal {
+            report: format!("could not start the compiler thread: {e}"),
+            wgsl: String::new(),
+        })?;
+        joined(handle)
+    })
+}
+
+/// Starts `f` on a scoped thread with the compiler's stack.
+fn compiler_thread<'s, T: Send + 's>(
+    s: &'s std::thread::Scope<'s, '_>,
+    f: impl FnOnce() -> Result<T, Failure> + Send + 's,
+) -> std::io::Result<std::thread::ScopedJoinHandle<'s, Result<T, Failure>>> {
+    std::thread::Builder::new()
+        .name("sdfc-compile".into())
+        .stack_size(STACK_BYTES)
+        .spawn_scoped(s, f)
+}
+
+/// A compiler thread's result; its panic (a bug) as an internal error.
+fn joined<T>(handle: std::thread::ScopedJoinHandle<'_, Result<T, Failure>>) -> Result<T, Failure> {
+    handle.join().unwrap_or_else(|_| {
+        Err(Failure::Internal {
+            report: "the compiler panicked".into(),
+            wgsl: String::new(),
+        })
     })
 }
 

@@ -2,7 +2,9 @@
 // table): smooth (quintic fade), deterministic, in [-1, 1]. The CPU evaluator computes the
 // same hash bit for bit and the same float arithmetic.
 fn noise_hash(x: i32, y: i32, z: i32) -> u32 {
-    var h = bitcast<u32>(x) * 73856093u ^ bitcast<u32>(y) * 19349663u ^ bitcast<u32>(z) * 83492791u;
+    // WGSL gives `*` and `^` no relative precedence: browsers (Tint) reject them unbracketed.
+    var h = (bitcast<u32>(x) * 73856093u) ^ (bitcast<u32>(y) * 19349663u)
+        ^ (bitcast<u32>(z) * 83492791u);
     h = h ^ (h >> 16u);
     h = h * 0x7feb352du;
     h = h ^ (h >> 15u);

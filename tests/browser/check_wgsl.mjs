@@ -1,0 +1,70 @@
+// Checks WGSL files with Tint, the WGSL compiler of Chrome, through Dawn's Node.js binding.
+//
+// Usage: node check_wgsl.mjs FILE.wgsl... (or a folder of them). Dawn's null backend runs
+// Tint's front end (parser, resolver, uniformity analysis) and WebGPU's validation at the
+// default limits, which is what a browser applies, without a GPU. Each file becomes one
+// shader module; a file with an `@compute` entry point also becomes a compute pipeline
+// (layout "auto"), which checks the entry point against the limits. Prints one JSON line per
+// file, {"file", "ok", "messages"}, and exits 1 if any file failed, 2 if Dawn gave no device.
+import { create, globals } from 'webgpu';
+import fs from 'node:fs';
+import path from 'node:path';
+
+Object.assign(globalThis, globals);
+
+function files(args) {
+  const out = [];
+  for (const a of args) {
+    if (fs.statSync(a).isDirectory()) {
+      for (const f of fs.readdirSync(a).sort()) {
+        if (f.endsWith('.wgsl')) out.push(path.join(a, f));
+      }
+    } else {
+      out.push(a);
+    }
+  }
+  return out;
+}
+
+// Tint's messages carry line and column; errors raised by WebGPU validation only text.
+function text(m) {
+  return `${m.type} ${m.lineNum}:${m.linePos}: ${m.message}`;
+}
+
+const gpu = create(['backend=null']);
+const adapter = await gpu.requestAdapter();
+const device = adapter && (await adapter.requestDevice());
+if (!device) {
+  console.error('check_wgsl: Dawn offered no device on its null backend');
+  process.exit(2);
+}
+
+let failed = 0;
+for (const file of files(process.argv.slice(2))) {
+  const code = fs.readFileSync(file, 'utf8');
+  const messages = [];
+  device.pushErrorScope('validation');
+  const module = device.createShaderModule({ code });
+  const info = await module.getCompilationInfo();
+  for (const m of info.messages) messages.push(text(m));
+  const moduleError = await device.popErrorScope();
+  let ok = !moduleError && !info.messages.some((m) => m.type === 'error');
+  if (moduleError && messages.length === 0) messages.push(`error: ${moduleError.message}`);
+  if (ok && code.includes('@compute')) {
+    device.pushErrorScope('validation');
+    try {
+      await device.createComputePipelineAsync({ layout: 'auto', compute: { module } });
+    } catch (e) {
+      ok = false;
+      messages.push(`error: pipeline: ${e.message}`);
+    }
+    const pipelineError = await device.popErrorScope();
+    if (pipelineError) {
+      ok = false;
+      messages.push(`error: pipeline: ${pipelineError.message}`);
+    }
+  }
+  if (!ok) failed++;
+  console.log(JSON.stringify({ file, ok, messages }));
+}
+process.exit(failed ? 1 : 0);

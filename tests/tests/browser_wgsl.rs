@@ -1,8 +1,11 @@
 //! Every kind of shader sdfc emits passes Tint, the WGSL compiler of Chrome, as well as naga
 //! (which Firefox uses): the scene corpus and the examples in every form, under the render
 //! settings that change the emitted code, with culling, the evaluation shader, the
-//! interpreter, and random scenes. Tint runs through Dawn's Node.js binding on its null
-//! backend (`tests/browser/`, installed by `.ci/run`), so no GPU is needed.
+//! interpreter, and random scenes. Tint runs through Dawn's Node.js binding
+//! (`tests/browser/`, installed by `.ci/run`) twice, so no GPU is needed: on Dawn's null
+//! backend at WebGPU's core feature level and default limits, and on Mesa's software OpenGL
+//! ES at the compatibility level, where pipelines also pass Tint's back end and Mesa's GLSL
+//! compiler.
 
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -57,24 +60,41 @@ struct Verdict {
     messages: String,
 }
 
+/// Where Dawn runs the shaders.
+#[derive(Clone, Copy, Debug)]
+enum Backend {
+    /// No device: Tint's front end and WebGPU's validation, core feature level.
+    Null,
+    /// Mesa's llvmpipe through OpenGL ES, compatibility feature level.
+    Gles,
+}
+
 /// Writes the shaders to a fresh folder and runs Tint over all of them at once; returns each
 /// file name's verdict.
-fn run_tint(label: &str, shaders: &BTreeMap<String, String>) -> BTreeMap<String, Verdict> {
-    let dir = std::env::temp_dir().join(format!("sdfc-tint-{label}-{}", std::process::id()));
+fn run_tint(
+    label: &str,
+    backend: Backend,
+    shaders: &BTreeMap<String, String>,
+) -> BTreeMap<String, Verdict> {
+    let dir = std::env::temp_dir().join(format!(
+        "sdfc-tint-{label}-{backend:?}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temporary folder");
     for (name, wgsl) in shaders {
         std::fs::write(dir.join(name), wgsl).expect("write a shader");
     }
-    let out = Command::new("node")
-        .arg(browser_dir().join("check_wgsl.mjs"))
-        .arg(&dir)
-        .output()
-        .expect("run node");
+    let mut node = Command::new("node");
+    node.arg(browser_dir().join("check_wgsl.mjs"));
+    if let Backend::Gles = backend {
+        node.arg("--gles");
+    }
+    let out = node.arg(&dir).output().expect("run node");
     let _ = std::fs::remove_dir_all(&dir);
     assert!(
         matches!(out.status.code(), Some(0 | 1)),
-        "check_wgsl.mjs did not run: {}\n{}",
+        "check_wgsl.mjs ({backend:?}) did not run: {}\n{}",
         out.status,
         String::from_utf8_lossy(&out.stderr)
     );
@@ -87,7 +107,7 @@ fn run_tint(label: &str, shaders: &BTreeMap<String, String>) -> BTreeMap<String,
     assert_eq!(
         verdicts.len(),
         shaders.len(),
-        "Tint reported on {} of {} files:\n{stdout}",
+        "Tint ({backend:?}) reported on {} of {} files:\n{stdout}",
         verdicts.len(),
         shaders.len()
     );
@@ -249,15 +269,19 @@ fn random_scenes(count: usize) -> Vec<String> {
         .collect()
 }
 
-fn assert_all_pass(verdicts: &BTreeMap<String, Verdict>, shaders: &BTreeMap<String, String>) {
-    let failed: Vec<String> = verdicts
-        .iter()
-        .filter(|(_, v)| !v.ok)
-        .map(|(name, v)| format!("--- {name}: {}", v.messages))
-        .collect();
+/// Runs Tint over the shaders on both backends and asserts that every one passed on both.
+fn assert_all_pass(label: &str, shaders: &BTreeMap<String, String>) {
+    let mut failed = Vec::new();
+    for backend in [Backend::Null, Backend::Gles] {
+        for (name, v) in run_tint(label, backend, shaders) {
+            if !v.ok {
+                failed.push(format!("--- {name} ({backend:?}): {}", v.messages));
+            }
+        }
+    }
     assert!(
         failed.is_empty(),
-        "Tint rejected {} of {} shaders that naga accepted:\n{}",
+        "Tint rejected {} of {} shaders (on two backends) that naga accepted:\n{}",
         failed.len(),
         shaders.len(),
         failed.join("\n")
@@ -282,8 +306,7 @@ fn every_emitted_shader_passes_tint() {
         shaders.insert(format!("interpreter_unroll{unroll}.wgsl"), wgsl);
     }
     assert!(shaders.len() > 200, "only {} shaders", shaders.len());
-    let verdicts = run_tint("all", &shaders);
-    assert_all_pass(&verdicts, &shaders);
+    assert_all_pass("all", &shaders);
 }
 
 #[test]
@@ -297,8 +320,7 @@ fn random_scenes_pass_tint() {
             .unwrap_or_else(|e| panic!("random scene {i}:\n{source}\n{e:?}"));
         shaders.insert(format!("random_{i:02}.wgsl"), c.wgsl);
     }
-    let verdicts = run_tint("random", &shaders);
-    assert_all_pass(&verdicts, &shaders);
+    assert_all_pass("random", &shaders);
 }
 
 /// The check itself can fail, and names the file: Tint rejects a name WGSL reserves (as naga
@@ -318,7 +340,7 @@ fn tint_rejects_what_a_browser_rejects() {
         "too_wide.wgsl".to_string(),
         "@compute @workgroup_size(1024) fn main() {}\n".to_string(),
     );
-    let verdicts = run_tint("negative", &shaders);
+    let verdicts = run_tint("negative", Backend::Null, &shaders);
     assert!(
         verdicts["fine.wgsl"].ok,
         "{}",
@@ -340,4 +362,28 @@ fn tint_rejects_what_a_browser_rejects() {
             "naga now rejects {name}"
         );
     }
+}
+
+/// The OpenGL ES pass runs at the compatibility feature level, which is narrower: a storage
+/// texture of format `rg32float` is core WebGPU, and not available there.
+#[test]
+fn the_gles_pass_applies_the_compatibility_level() {
+    if !tint_available("the_gles_pass_applies_the_compatibility_level") {
+        return;
+    }
+    let wgsl = "@group(0) @binding(0) var t: texture_storage_2d<rg32float, write>;\n\
+                @compute @workgroup_size(8, 8) fn main() {\n\
+                \x20   textureStore(t, vec2<i32>(0), vec4<f32>(1.0));\n\
+                }\n";
+    let shaders = BTreeMap::from([("rg32float.wgsl".to_string(), wgsl.to_string())]);
+    let core = run_tint("level", Backend::Null, &shaders);
+    assert!(
+        core["rg32float.wgsl"].ok,
+        "{}",
+        core["rg32float.wgsl"].messages
+    );
+    let compat = run_tint("level", Backend::Gles, &shaders);
+    let v = &compat["rg32float.wgsl"];
+    assert!(!v.ok, "the OpenGL ES pass passed it");
+    assert!(v.messages.contains("RG32Float"), "{}", v.messages);
 }

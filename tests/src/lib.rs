@@ -4,9 +4,15 @@ pub mod random_scene;
 
 use std::path::PathBuf;
 
-/// The `tests/` folder of the repository.
+/// The `tests/` folder of the repository: where it was built, or, for a bench executable
+/// carried to another machine (`scripts/gpu-bench.sh`), `tests/` under the folder it runs in.
 pub fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    let built = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    if built.is_dir() {
+        built
+    } else {
+        PathBuf::from("tests")
+    }
 }
 
 /// The `.sdf` files of a corpus folder under `tests/`, sorted by name.

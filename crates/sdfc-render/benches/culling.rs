@@ -1,5 +1,6 @@
 //! Culling benchmark: the same large unions compiled with and without bounding-box
-//! early-outs (`sdfc compile --cull`), rendered at 160x120 on the same device in one run.
+//! early-outs (`sdfc compile --cull`), rendered at 160x120 (or `SDFC_BENCH_SIZE=WxH`: a GPU
+//! needs more pixels than that to fill it) on the same device in one run.
 //! Before divan's table it prints, per scene, device time (timestamp queries where the
 //! adapter has them, else wall time), both ways, their ratio, and the largest depth difference
 //! between the two pictures and how many pixels differ by more than 1e-4 relative (the culled
@@ -12,8 +13,6 @@ use sdfc_wgsl::{Compiled, Options};
 use std::sync::OnceLock;
 use std::time::Duration;
 
-const WIDTH: u32 = 160;
-const HEIGHT: u32 = 120;
 const SIZES: [usize; 2] = [100, 300];
 
 fn renderer() -> &'static Renderer {
@@ -31,7 +30,8 @@ fn compiled(n: usize, cull: bool) -> Compiled {
 }
 
 fn options() -> RenderOptions {
-    RenderOptions::sized(WIDTH, HEIGHT)
+    let (w, h) = sdfc_tests::bench_size();
+    RenderOptions::sized(w, h)
 }
 
 /// Mean device time of a few warm frames (wall time where there are no timestamps).
@@ -68,7 +68,8 @@ fn within(a: f32, b: f32) -> bool {
 fn main() {
     let r = renderer();
     println!("adapter: {}", r.adapter_description());
-    println!("image: {WIDTH}x{HEIGHT}, grid scenes of spheres, boxes and tori");
+    let (w, h) = sdfc_tests::bench_size();
+    println!("image: {w}x{h}, grid scenes of spheres, boxes and tori");
     println!(
         "{:<10} {:>12} {:>12} {:>8} {:>22} {:>8}",
         "shapes", "plain", "culled", "speedup", "max depth difference", "pixels"

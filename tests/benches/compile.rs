@@ -37,6 +37,14 @@ fn stage_lower_and_optimise_5000(bencher: divan::Bencher) {
     });
 }
 
+/// What the live path does before its preview: one parse, then the plain and the culled
+/// program lowered at once on two threads (`sdfc render --live`).
+#[divan::bench(sample_count = 20)]
+fn live_lower_5000(bencher: divan::Bencher) {
+    let src = grid_scene(5000);
+    bencher.bench(|| sdfc_wgsl::lower_live(divan::black_box(&src), &Options::default()).is_ok());
+}
+
 #[divan::bench(sample_count = 20)]
 fn stage_emit_5000(bencher: divan::Bencher) {
     let src = grid_scene(5000);

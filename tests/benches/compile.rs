@@ -5,10 +5,6 @@
 use sdfc_tests::{doubling_lets, grid_scene, max_size_union};
 use sdfc_wgsl::Options;
 
-/// The CLI's allocator, so that the figures are what `sdfc compile` takes.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn main() {
     divan::main();
 }

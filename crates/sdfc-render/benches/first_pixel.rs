@@ -17,10 +17,6 @@
 use sdfc_render::{LiveOptions, RenderOptions, Renderer};
 use std::time::{Duration, Instant};
 
-/// The CLI's allocator, so that the lowering is timed as `sdfc render --live` runs it.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// A fresh renderer with the interpreter's pipeline built.
 fn warm_renderer() -> Renderer {
     let r = Renderer::new().unwrap_or_else(|e| panic!("cannot render: {e}"));

@@ -1,0 +1,139 @@
+//! Renders a scene with its own specialised shader and with another WGSL text for the same
+//! scene, and prints both builds' and renders' times and how far the pictures differ: the
+//! harness of experiments on the emitted shader's form (docs/performance.md, "Large unions
+//! as tables"), run here and by `scripts/gpu-bench.sh` on a GPU.
+//!
+//! `cargo run --release -p sdfc-render --example compare_shader -- emit N DIR` writes
+//! `DIR/gridN.sdf` (the generated grid of N shapes, seen from close by) and `DIR/gridN.wgsl`
+//! (its shader); `... -- compare SCENE.sdf OTHER.wgsl WxH` renders both.
+
+use sdfc_render::{Frame, RenderOptions, Renderer};
+use std::time::{Duration, Instant};
+
+type Error = Box<dyn std::error::Error>;
+
+/// The grid's own camera sees it from 60 away, where most rays miss its bounds; from close
+/// by every ray marches through the shapes, which is what the experiment measures.
+fn close_grid(n: usize) -> Result<String, Error> {
+    const FAR: &str = "camera { position: [0, 20, 60], target: [0, 0, 0]";
+    const CLOSE: &str = "camera { position: [2, 6, 12], target: [0, 3, -4]";
+    let scene = sdfc_tests::grid_scene(n);
+    if !scene.contains(FAR) {
+        return Err("the generated grid's camera has changed: update close_grid".into());
+    }
+    Ok(scene.replace(FAR, CLOSE))
+}
+
+fn compile(source: &str) -> Result<sdfc_wgsl::Compiled, Error> {
+    sdfc_wgsl::compile(source, &sdfc_wgsl::Options::default())
+        .map_err(|_| "the scene does not compile".into())
+}
+
+fn emit(n: usize, dir: &str) -> Result<(), Error> {
+    let source = close_grid(n)?;
+    let compiled = compile(&source)?;
+    std::fs::write(format!("{dir}/grid{n}.sdf"), &source)?;
+    std::fs::write(format!("{dir}/grid{n}.wgsl"), &compiled.wgsl)?;
+    Ok(())
+}
+
+/// What one shader measured: the first render (pipeline build included), then the median
+/// device time (timestamp queries, where the device has them) and wall time of five more.
+struct Measured {
+    first: Duration,
+    device: Option<Duration>,
+    wall: Duration,
+    frame: Frame,
+}
+
+fn measure(
+    r: &Renderer,
+    compiled: &sdfc_wgsl::Compiled,
+    wgsl: &str,
+    opts: &RenderOptions,
+) -> Result<Measured, Error> {
+    let start = Instant::now();
+    let frame = r.render_wgsl(compiled.program(), wgsl, opts)?;
+    let first = start.elapsed();
+    let (mut device, mut wall) = (Vec::new(), Vec::new());
+    for _ in 0..5 {
+        let start = Instant::now();
+        let f = r.render_wgsl(compiled.program(), wgsl, opts)?;
+        wall.push(start.elapsed());
+        device.extend(f.device_time);
+    }
+    device.sort();
+    wall.sort();
+    let device = (device.len() == 5).then(|| device[2]);
+    Ok(Measured {
+        first,
+        device,
+        wall: wall[2],
+        frame,
+    })
+}
+
+fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
+    let compiled = compile(&std::fs::read_to_string(scene)?)?;
+    let other = std::fs::read_to_string(other)?;
+    let (w, h) = size.split_once('x').ok_or("size is WxH")?;
+    let mut opts = RenderOptions::sized(w.parse()?, h.parse()?);
+    opts.aovs = true;
+    let r = Renderer::new()?;
+    println!("adapter: {}", r.adapter_description());
+    let mut frames = Vec::new();
+    // The other shader first: where the own one is slow to build (a large union on a CPU
+    // device), the other's figures are printed before a time limit cuts the run short.
+    for (name, wgsl) in [("other shader", &other), ("own shader", &compiled.wgsl)] {
+        let m = measure(&r, &compiled, wgsl, &opts)?;
+        let steps = m.frame.aovs.as_ref().map_or(0.0, |a| a.mean_steps());
+        let device = m.device.map_or("none".into(), |d| format!("{d:.2?}"));
+        println!(
+            "{name}: {} bytes, build and first render {:.2?}; then, median of 5, device time {device}, wall time {:.2?}; {steps:.2} steps per pixel",
+            wgsl.len(),
+            m.first,
+            m.wall,
+        );
+        frames.push(m.frame);
+    }
+    let (a, b) = (&frames[1], &frames[0]);
+    let off = a
+        .rgba
+        .iter()
+        .zip(&b.rgba)
+        .filter(|(x, y)| x.abs_diff(**y) > 2)
+        .count();
+    let (da, db) = (
+        &a.aovs.as_ref().unwrap().depth,
+        &b.aovs.as_ref().unwrap().depth,
+    );
+    let hit_miss = da
+        .iter()
+        .zip(db)
+        .filter(|(x, y)| x.is_finite() != y.is_finite())
+        .count();
+    let mut rel: Vec<f32> = da
+        .iter()
+        .zip(db)
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .map(|(x, y)| (x - y).abs() / x.abs().max(1e-6))
+        .collect();
+    rel.sort_by(f32::total_cmp);
+    let p999 = rel
+        .get(rel.len().saturating_sub(1) * 999 / 1000)
+        .copied()
+        .unwrap_or(0.0);
+    println!(
+        "difference: {off} channels off by more than 2/255, {hit_miss} hit/miss, depth p99.9 {p999:.2e} relative"
+    );
+    Ok(())
+}
+
+fn main() -> Result<(), Error> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match args.iter().map(String::as_str).collect::<Vec<_>>()[..] {
+        ["emit", n, dir] => emit(n.parse()?, dir),
+        ["compare", scene, other, size] => compare(scene, other, size),
+        _ => Err("usage: compare_shader emit N DIR | compare SCENE.sdf OTHER.wgsl WxH".into()),
+    }
+}

@@ -7,6 +7,7 @@
 //! `DIR/gridN.sdf` (the generated grid of N shapes, seen from close by) and `DIR/gridN.wgsl`
 //! (its shader); `... -- compare SCENE.sdf OTHER.wgsl WxH` renders both.
 
+use sdfc_reference::metrics::percentile;
 use sdfc_render::{Frame, RenderOptions, Renderer};
 use std::time::{Duration, Instant};
 
@@ -38,7 +39,8 @@ fn emit(n: usize, dir: &str) -> Result<(), Error> {
 }
 
 /// What one shader measured: the first render (pipeline build included), then the median
-/// device time (timestamp queries, where the device has them) and wall time of five more.
+/// device time (timestamp queries, where the device has them) and wall time (submit to
+/// read-back) of five more.
 struct Measured {
     first: Duration,
     device: Option<Duration>,
@@ -57,9 +59,8 @@ fn measure(
     let first = start.elapsed();
     let (mut device, mut wall) = (Vec::new(), Vec::new());
     for _ in 0..5 {
-        let start = Instant::now();
         let f = r.render_wgsl(compiled.program(), wgsl, opts)?;
-        wall.push(start.elapsed());
+        wall.push(f.wall_time);
         device.extend(f.device_time);
     }
     device.sort();
@@ -112,17 +113,14 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
         .zip(db)
         .filter(|(x, y)| x.is_finite() != y.is_finite())
         .count();
-    let mut rel: Vec<f32> = da
+    let mut rel: Vec<f64> = da
         .iter()
         .zip(db)
         .filter(|(x, y)| x.is_finite() && y.is_finite())
-        .map(|(x, y)| (x - y).abs() / x.abs().max(1e-6))
+        .map(|(x, y)| ((x - y).abs() / x.abs().max(1e-6)) as f64)
         .collect();
-    rel.sort_by(f32::total_cmp);
-    let p999 = rel
-        .get(rel.len().saturating_sub(1) * 999 / 1000)
-        .copied()
-        .unwrap_or(0.0);
+    rel.sort_by(f64::total_cmp);
+    let p999 = percentile(&rel, 0.999);
     println!(
         "difference: {off} channels off by more than 2/255, {hit_miss} hit/miss, depth p99.9 {p999:.2e} relative"
     );

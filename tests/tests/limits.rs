@@ -7,7 +7,7 @@
 //! here (every function has at most `MAX_FUNCTION_NODES` nodes) is what keeps time linear.
 //! The times themselves are measured by the `max_size` benchmark of `benches/compile.rs`.
 
-use sdfc_ir::scene::limits::{MAX_NODES, MAX_SHAPE_INSTANCES};
+use sdfc_ir::scene::limits::{MAX_INLINED_CALLS, MAX_NODES, MAX_SHAPE_INSTANCES};
 use sdfc_syntax::MAX_SOURCE_BYTES;
 use sdfc_tests::{doubling_lets, max_size_union};
 use sdfc_wgsl::{compile, Compiled, Failure, Options};
@@ -107,10 +107,12 @@ fn doubling_lets_past_the_limit_are_refused() {
 
 #[test]
 fn doubling_fns_hit_the_node_limit() {
+    // About six new nodes a call, so the graph passes the node limit (at some 350 000 calls)
+    // before the count of calls passes its own (see the next test).
     let mut src = String::from("fn f0(p) = length(p) - 1;\n");
     for k in 1..40 {
         src += &format!(
-            "fn f{k}(p) = min(f{}(p), f{}(p + [{k}, 0, 0]));\n",
+            "fn f{k}(p) = min(f{}(p), f{}(p + [{k}, 0, 0])) + abs(p.x - {k}) * 0.001;\n",
             k - 1,
             k - 1
         );
@@ -121,6 +123,31 @@ fn doubling_fns_hit_the_node_limit() {
         msg.contains(&format!("grows past {MAX_NODES} nodes")),
         "{msg}"
     );
+}
+
+/// Found by the CLI audit of 2026-12-04: each level calls the one below twice with the same
+/// argument, so hash-consing keeps the graph at a node a level while the inlining doubles; 26
+/// levels (776 bytes) took 42 s and compiled, 39 never finished. The count of calls inlined
+/// is bounded now, whatever the graph's size.
+#[test]
+fn doubling_fns_of_equal_values_hit_the_call_limit() {
+    let mut src = String::from("param r = 1;\nfn f0(x) = x;\n");
+    for k in 1..40 {
+        src += &format!("fn f{k}(x) = f{0}(x) + f{0}(x);\n", k - 1);
+    }
+    src += "scene = sphere(f39(r));\n";
+    let msg = refused("doubling fns of equal values", &src);
+    assert!(
+        msg.contains(&format!("more than {MAX_INLINED_CALLS} `fn` calls")),
+        "{msg}"
+    );
+    // Under the limit the same pattern compiles: 2^19 calls of a level-19 chain.
+    let mut ok = String::from("param r = 1;\nfn f0(x) = x;\n");
+    for k in 1..19 {
+        ok += &format!("fn f{k}(x) = f{0}(x) + f{0}(x);\n", k - 1);
+    }
+    ok += "scene = sphere(f18(r) / 100000);\n";
+    compiled("a chain under the call limit", &ok);
 }
 
 #[test]

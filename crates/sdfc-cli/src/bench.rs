@@ -2,6 +2,7 @@
 //! that trade one for the other, each timed over warm runs and compared with one f64 reference
 //! render; the table marks the settings on the Pareto front.
 
+use crate::out::say;
 use crate::render::{parse_size, prepare, render_failure, to_f32};
 use crate::Outcome;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -27,7 +28,7 @@ pub struct Args {
     /// The scene file (.sdf)
     scene: PathBuf,
     /// Image size, WIDTHxHEIGHT
-    #[arg(long, value_name = "WxH", default_value = "256x192", value_parser = parse_size)]
+    #[arg(long, value_name = "WxH", default_value = "256x192", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
     /// Timed warm runs per setting (the median is reported)
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
@@ -161,6 +162,12 @@ fn settings(base: &RenderSettings) -> Vec<Setting> {
 }
 
 pub fn run(a: Args) -> Outcome {
+    for (flag, out) in [("--plot", &a.plot), ("--heatmap", &a.heatmap)] {
+        if let Some(Err(msg)) = out.as_deref().map(|o| crate::render::check_png(flag, o)) {
+            say!("error: {msg}");
+            return Outcome::EnvError;
+        }
+    }
     let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, false) {
         Ok(p) => p,
         Err(o) => return o,
@@ -241,7 +248,9 @@ pub fn run(a: Args) -> Outcome {
         renderer.adapter_description(),
         a.runs
     );
-    print!("{}", table(&title, &rows, a.markdown));
+    if let Err(o) = crate::out::print(&table(&title, &rows, a.markdown)) {
+        return o;
+    }
     if let Some(path) = &a.plot {
         // Named on the plot: the front, the scene's settings and the plain marcher (rows 0, 1).
         let points: Vec<crate::plot::Point> = rows
@@ -264,7 +273,7 @@ pub fn run(a: Args) -> Outcome {
             renderer.adapter_description()
         );
         if let Err(e) = crate::plot::write(path, &caption, &points) {
-            eprintln!("error: {e}");
+            say!("error: {e}");
             return Outcome::EnvError;
         }
     }

@@ -1,5 +1,6 @@
 //! `sdfc compile`: a scene to validated WGSL, or a stage of the IR with `--emit`.
 
+use crate::out::{say, say_part};
 use crate::{read_source, report, Outcome};
 use std::path::PathBuf;
 
@@ -14,7 +15,7 @@ pub struct Args {
     #[arg(long)]
     lib: bool,
     /// With --lib: add a naga_oil `#define_import_path NAME` line
-    #[arg(long, value_name = "NAME", requires = "lib")]
+    #[arg(long, value_name = "NAME", requires = "lib", value_parser = import_path)]
     import_path: Option<String>,
     /// What to print: the WGSL, or a stage of the compiler for inspection
     #[arg(long, value_enum, default_value_t = Emit::Wgsl)]
@@ -42,7 +43,28 @@ enum Emit {
     OptIr,
 }
 
+/// A naga_oil module path: identifiers joined by `::` (`my_scene`, `scenes::city`). Anything
+/// else would make the first line of a validated module something naga_oil cannot read.
+fn import_path(s: &str) -> Result<String, String> {
+    let ident = |w: &str| {
+        let mut c = w.chars();
+        c.next()
+            .is_some_and(|f| f.is_ascii_alphabetic() || f == '_')
+            && c.all(|c| c.is_ascii_alphanumeric() || c == '_')
+            && w != "_"
+    };
+    if s.split("::").all(ident) {
+        Ok(s.to_string())
+    } else {
+        Err("expected identifiers joined by `::`, e.g. `my_scene` or `scenes::city`".into())
+    }
+}
+
 pub fn run(a: Args) -> Outcome {
+    if a.lib && !matches!(a.emit, Emit::Wgsl) {
+        say!("sdfc: --lib shapes the WGSL; it has no effect on --emit ast, ir or opt-ir");
+        return Outcome::EnvError;
+    }
     let path = a.scene.display().to_string();
     let source = match read_source(&a.scene) {
         Ok(s) => s,
@@ -66,7 +88,7 @@ pub fn run(a: Args) -> Outcome {
         report::diagnostics(&path, &source, &compiled.warnings);
         if a.explain {
             let p = compiled.program();
-            eprint!(
+            say_part!(
                 "{}",
                 sdfc_ir::analysis::explain(&p.scene, &p.analysis, &source)
             );
@@ -81,13 +103,13 @@ pub fn run(a: Args) -> Outcome {
         Some(out) => match std::fs::write(out, text) {
             Ok(()) => Outcome::Ok,
             Err(e) => {
-                eprintln!("sdfc: cannot write {}: {e}", out.display());
+                say!("sdfc: cannot write {}: {e}", out.display());
                 Outcome::EnvError
             }
         },
-        None => {
-            print!("{text}");
-            Outcome::Ok
-        }
+        None => match crate::out::print(&text) {
+            Ok(()) => Outcome::Ok,
+            Err(o) => o,
+        },
     }
 }

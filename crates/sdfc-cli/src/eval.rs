@@ -1,8 +1,9 @@
 //! `sdfc eval`: the scene distance at given points, from the f64 reference evaluator, or
 //! with `--gpu` through the emitted WGSL on the wgpu device.
 
+use crate::out::say;
 use crate::render::{open_renderer, param_overrides, render_failure, to_f32};
-use crate::{load_scene, Outcome};
+use crate::{load_scene, read_source, Outcome};
 use sdfc_ir::eval::{eval_func, Inputs};
 use std::path::PathBuf;
 
@@ -25,6 +26,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
+    if !a.time.is_finite() {
+        say!("error: --time must be finite, found {}", a.time);
+        return Outcome::EnvError;
+    }
     let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
         Ok(c) => c,
         Err(o) => return o,
@@ -35,31 +40,14 @@ pub fn run(a: Args) -> Outcome {
         Err(o) => return o,
     };
     let params = program.scene.param_values(&overrides);
-    let text = match std::fs::read_to_string(&a.points) {
+    let text = match read_source(&a.points) {
         Ok(t) => t,
-        Err(e) => {
-            eprintln!("sdfc: cannot read {}: {e}", a.points.display());
-            return Outcome::EnvError;
-        }
+        Err(o) => return o,
     };
-    let pts_path = a.points.display().to_string();
-    let mut points = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let comps: Vec<Result<f64, _>> = line.split(',').map(|c| c.trim().parse::<f64>()).collect();
-        if comps.len() != 3 || comps.iter().any(|c| c.is_err()) {
-            eprintln!(
-                "error: expected `x,y,z` ({pts_path}:{}:1), found `{line}`",
-                n + 1
-            );
-            return Outcome::InputError;
-        }
-        let p: Vec<f64> = comps.into_iter().flatten().collect();
-        points.push([p[0], p[1], p[2]]);
-    }
+    let points = match parse_points(&text, &a.points.display().to_string()) {
+        Ok(p) => p,
+        Err(o) => return o,
+    };
     let mut out = String::new();
     if a.gpu {
         let renderer = match open_renderer() {
@@ -89,6 +77,49 @@ pub fn run(a: Args) -> Outcome {
             out += &format!("{:?}\n", d[0].scalar().unwrap_or(f64::NAN));
         }
     }
-    print!("{out}");
-    Outcome::Ok
+    match crate::out::print(&out) {
+        Ok(()) => Outcome::Ok,
+        Err(o) => o,
+    }
+}
+
+/// The points of a CSV file, one `x,y,z` a line; blank lines and lines starting with `#` are
+/// skipped. A bad line is reported with its line and the column of the first bad field.
+fn parse_points(text: &str, path: &str) -> Result<Vec<[f64; 3]>, Outcome> {
+    let mut points = Vec::new();
+    for (n, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let mut p = Vec::with_capacity(3);
+        let mut bad = None;
+        let mut col = raw.len() - raw.trim_start().len() + 1;
+        for field in line.split(',') {
+            match field.trim().parse::<f64>() {
+                Ok(v) => p.push(v),
+                Err(_) if bad.is_none() => {
+                    bad = Some(col + field.len() - field.trim_start().len());
+                }
+                Err(_) => {}
+            }
+            col += field.chars().count() + 1;
+        }
+        let fields = line.split(',').count();
+        if bad.is_some() || fields != 3 {
+            let (col, what) = match bad {
+                Some(c) => (c, "a number"),
+                None => (1, "three numbers"),
+            };
+            say!(
+                "error: expected {what} in `x,y,z`, found `{line}` ({path}:{}:{col})\n  = hint: \
+                 one point a line, three numbers separated by commas; a header or comment line \
+                 starts with `#`",
+                n + 1
+            );
+            return Err(Outcome::InputError);
+        }
+        points.push([p[0], p[1], p[2]]);
+    }
+    Ok(points)
 }

@@ -1,6 +1,7 @@
 //! `sdfc render --live`: the interpreted preview written while the specialised pipeline
 //! builds, then the final frame over it, with the time of each on stderr.
 
+use crate::out::say;
 use crate::render::{param_overrides, render_failure, to_f32, with_device};
 use crate::{load_lowered, Outcome};
 use sdfc_render::output;
@@ -91,7 +92,7 @@ pub fn draw(
     let mut write_error = None;
     let rendered = renderer.render_live_until(program, &opts, &live, superseded, |drawn, frame| {
         if drawn == Drawn::Interpreted {
-            eprintln!(
+            say!(
                 "sdfc: preview (interpreted, {}x{} enlarged) after {}; the specialised pipeline is still building",
                 r.size.0.div_ceil(scale),
                 r.size.1.div_ceil(scale),
@@ -109,10 +110,10 @@ pub fn draw(
         Err(e) => return Some(render_failure(&e)),
     };
     if let Some(why) = &report.preview_skipped {
-        eprintln!("sdfc: no preview: {why}");
+        say!("sdfc: no preview: {why}");
     }
     if report.preview_cut > 0 {
-        eprintln!(
+        say!(
             "sdfc: the preview had {} pixels cut short by this device's loop budget (65 535 \
              trips per invocation on lavapipe and llvmpipe); the final frame has none",
             report.preview_cut
@@ -126,7 +127,7 @@ pub fn draw(
         ),
         _ => String::new(),
     };
-    eprintln!(
+    say!(
         "sdfc: final frame (specialised) after {} (its pipeline started after {}, built in \
          {}){preview}",
         seconds(report.specialised),

@@ -7,12 +7,14 @@ mod compare;
 mod compile;
 mod eval;
 mod live;
+mod out;
 mod plot;
 mod render;
 mod report;
 mod watch;
 
 use clap::{Parser, Subcommand};
+use out::say;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -55,8 +57,8 @@ pub enum Outcome {
 fn main() -> ExitCode {
     // A bug must never show a Rust backtrace to a user: report it in one line instead.
     std::panic::set_hook(Box::new(|info| {
-        eprintln!("sdfc: internal error: {info}");
-        eprintln!("This is a bug in sdfc; please report it with the input that caused it.");
+        say!("sdfc: internal error: {info}");
+        say!("This is a bug in sdfc; please report it with the input that caused it.");
     }));
     let cli = match Cli::try_parse() {
         Ok(c) => c,
@@ -88,7 +90,7 @@ pub fn read_source(path: &PathBuf) -> Result<String, Outcome> {
                 let offset = e.utf8_error().valid_up_to();
                 let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
                 let (line, col) = sdfc_syntax::diag::line_col(&text, offset);
-                eprintln!(
+                say!(
                     "error: {} is not valid UTF-8 ({}:{line}:{col})\n  = hint: save the file as UTF-8",
                     path.display(),
                     path.display()
@@ -97,7 +99,7 @@ pub fn read_source(path: &PathBuf) -> Result<String, Outcome> {
             }
         },
         Err(e) => {
-            eprintln!("sdfc: cannot read {}: {e}", path.display());
+            say!("sdfc: cannot read {}: {e}", path.display());
             Err(Outcome::EnvError)
         }
     }

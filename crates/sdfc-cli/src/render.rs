@@ -1,5 +1,6 @@
 //! `sdfc render`: a scene to a PNG, or one of its float AOVs to EXR / NPY, on the wgpu device.
 
+use crate::out::say;
 use crate::{load_scene, Outcome};
 use sdfc_ir::Program;
 use sdfc_render::output::{self, FloatFormat};
@@ -19,7 +20,7 @@ pub struct Args {
     #[arg(short, long, value_name = "OUT")]
     output: Option<PathBuf>,
     /// Image size, WIDTHxHEIGHT
-    #[arg(long, value_name = "WxH", default_value = "512x512", value_parser = parse_size)]
+    #[arg(long, value_name = "WxH", default_value = "512x512", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
     /// Override a param: NAME=VALUE, or NAME=x,y,z for vectors (repeatable)
     #[arg(long = "param", value_name = "NAME=VALUE")]
@@ -70,8 +71,20 @@ pub struct Args {
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("expected WIDTHxHEIGHT (e.g. 640x480), found `{s}`");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let w: u32 = w.trim().parse().map_err(|_| bad())?;
-    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    // Whole numbers of any length, so that a size too large says so rather than "malformed".
+    let dim = |d: &str| -> Result<u32, String> {
+        let d = d.trim();
+        if d.is_empty() || !d.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(bad());
+        }
+        d.parse().map_err(|_| {
+            format!(
+                "`{d}` is too large for an image side (at most {})",
+                u32::MAX
+            )
+        })
+    };
+    let (w, h) = (dim(w)?, dim(h)?);
     if w == 0 || h == 0 {
         return Err(format!("the image size must be at least 1x1, found `{s}`"));
     }
@@ -91,7 +104,7 @@ pub fn param_overrides(
     let mut out = Vec::new();
     for spec in specs {
         let Some((name, value)) = spec.split_once('=') else {
-            eprintln!("sdfc: --param takes NAME=VALUE, found `{spec}`");
+            say!("sdfc: --param takes NAME=VALUE, found `{spec}`");
             return Err(Outcome::EnvError);
         };
         let name = name.trim();
@@ -103,9 +116,9 @@ pub fn param_overrides(
                 .map(|p| p.name.as_str())
                 .collect();
             if known.is_empty() {
-                eprintln!("sdfc: the scene has no param `{name}` (it declares none)");
+                say!("sdfc: the scene has no param `{name}` (it declares none)");
             } else {
-                eprintln!(
+                say!(
                     "sdfc: the scene has no param `{name}` (its params: {})",
                     known.join(", ")
                 );
@@ -119,7 +132,7 @@ pub fn param_overrides(
                 out.push((name.to_string(), c));
             }
             _ => {
-                eprintln!(
+                say!(
                     "sdfc: --param {name} needs {} finite number(s), found `{value}`",
                     decl.ty.width()
                 );
@@ -191,11 +204,11 @@ pub fn open_renderer() -> Result<Renderer, Outcome> {
 fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
     match opened {
         Ok(r) => {
-            eprintln!("sdfc: device: {}", r.adapter_description());
+            say!("sdfc: device: {}", r.adapter_description());
             Ok(r)
         }
         Err(e) => {
-            eprintln!("sdfc: cannot render: {e}");
+            say!("sdfc: cannot render: {e}");
             Err(Outcome::EnvError)
         }
     }
@@ -203,7 +216,7 @@ fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
 
 /// Prints a render error; returns the outcome it maps to.
 pub fn render_failure(e: &RenderError) -> Outcome {
-    eprintln!("sdfc: {e}");
+    say!("sdfc: {e}");
     if e.is_input_error() {
         Outcome::InputError
     } else {
@@ -212,6 +225,7 @@ pub fn render_failure(e: &RenderError) -> Outcome {
 }
 
 fn check_output(out: &Path, aov: Option<AovKind>) -> Result<(), String> {
+    check_place(out)?;
     let ext = out
         .extension()
         .and_then(|e| e.to_str())
@@ -230,20 +244,53 @@ fn check_output(out: &Path, aov: Option<AovKind>) -> Result<(), String> {
     }
 }
 
+/// That a file can be written at `out` as far as can be told before the work: the path is not
+/// a directory and its directory exists, so that a typo does not cost a whole render first.
+pub fn check_place(out: &Path) -> Result<(), String> {
+    if out.is_dir() {
+        return Err(format!("cannot write {}: it is a directory", out.display()));
+    }
+    match out.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(format!(
+            "cannot write {}: there is no directory {}",
+            out.display(),
+            dir.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// A PNG output of `sdfc bench` (`--plot`, `--heatmap`): checked as [`check_place`], and
+/// by its extension, as `render` checks its colour image.
+pub fn check_png(flag: &str, out: &Path) -> Result<(), String> {
+    check_place(out)?;
+    let png = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if png {
+        Ok(())
+    } else {
+        Err(format!(
+            "{flag} writes a PNG: `{}` should end in .png",
+            out.display()
+        ))
+    }
+}
+
 pub fn run(a: Args) -> Outcome {
     if a.output.is_none() && !a.compare {
-        eprintln!("error: `sdfc render` needs an output file: -o OUT.png (or -o OUT.exr|OUT.npy with --aov)");
-        eprintln!("\nUsage: sdfc render SCENE.sdf -o OUT.png [--size WxH] [--param NAME=VALUE]... [--time T] [--aov depth|normal|steps]");
+        say!("error: `sdfc render` needs an output file: -o OUT.png (or -o OUT.exr|OUT.npy with --aov)");
+        say!("\nUsage: sdfc render SCENE.sdf -o OUT.png [--size WxH] [--param NAME=VALUE]... [--time T] [--aov depth|normal|steps]");
         return Outcome::EnvError;
     }
     if let Some(out) = &a.output {
         if let Err(msg) = check_output(out, a.aov) {
-            eprintln!("error: {msg}");
+            say!("error: {msg}");
             return Outcome::EnvError;
         }
     }
     if !a.time.is_finite() {
-        eprintln!("error: --time must be finite, found {}", a.time);
+        say!("error: --time must be finite, found {}", a.time);
         return Outcome::EnvError;
     }
     if a.live {
@@ -274,7 +321,7 @@ pub fn run(a: Args) -> Outcome {
     };
     let frame = if a.interpreted {
         if compiled.program().scene.render.normals == sdfc_ir::scene::Normals::Analytic {
-            eprintln!(
+            say!(
                 "sdfc: note: the interpreted marcher has no gradient code; `normals: analytic` renders with `tetrahedron` there"
             );
         }
@@ -300,7 +347,9 @@ pub fn run(a: Args) -> Outcome {
             a.markdown,
             &renderer.adapter_description().to_string(),
         );
-        print!("{table}");
+        if let Err(o) = crate::out::print(&table) {
+            return o;
+        }
     }
     let Some(out) = &a.output else {
         return Outcome::Ok;

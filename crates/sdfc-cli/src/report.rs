@@ -1,5 +1,6 @@
 //! Printing diagnostics and internal errors on stderr.
 
+use crate::out::{say, say_part};
 use sdfc_syntax::diag::{self, Diagnostic};
 use sdfc_wgsl::Failure;
 use std::io::IsTerminal;
@@ -9,7 +10,7 @@ pub fn diagnostics(path: &str, source: &str, diags: &[Diagnostic]) {
         return;
     }
     let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-    eprint!("{}", diag::render_with(path, source, diags, color));
+    say_part!("{}", diag::render_with(path, source, diags, color));
 }
 
 /// Prints a failure; returns the outcome it maps to.
@@ -18,15 +19,15 @@ pub fn failure(path: &str, source: &str, f: &Failure) -> crate::Outcome {
         Failure::Diagnostics(d) => {
             diagnostics(path, source, d);
             let n = d.iter().filter(|d| d.is_error()).count();
-            eprintln!("sdfc: {path}: {n} error{}", if n == 1 { "" } else { "s" });
+            say!("sdfc: {path}: {n} error{}", if n == 1 { "" } else { "s" });
             crate::Outcome::InputError
         }
         Failure::Internal { report, wgsl } => {
-            eprintln!("sdfc: internal compiler error: the WGSL emitted for {path} is invalid.");
-            eprintln!("This is a bug in sdfc, not in the scene; please report it with the scene.");
-            eprintln!("{report}");
+            say!("sdfc: internal compiler error: the WGSL emitted for {path} is invalid.");
+            say!("This is a bug in sdfc, not in the scene; please report it with the scene.");
+            say!("{report}");
             if !wgsl.is_empty() {
-                eprintln!("--- emitted WGSL ---\n{wgsl}");
+                say!("--- emitted WGSL ---\n{wgsl}");
             }
             crate::Outcome::EnvError
         }

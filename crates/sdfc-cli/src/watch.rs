@@ -5,6 +5,7 @@
 //! picture kept.
 
 use crate::live::{draw, Request};
+use crate::out::say;
 use crate::render::open_renderer;
 use crate::{lower_source, Outcome};
 use std::cell::{Cell, RefCell};
@@ -19,7 +20,7 @@ pub fn run(r: &Request) -> Outcome {
         Ok(r) => r,
         Err(o) => return o,
     };
-    eprintln!(
+    say!(
         "sdfc: watching {}; each change is rendered into {} (Ctrl-C stops)",
         r.scene.display(),
         r.output
@@ -36,7 +37,7 @@ pub fn run(r: &Request) -> Outcome {
                 let text = String::from_utf8(bytes.clone());
                 last = Some(bytes);
                 match text {
-                    Err(e) => eprintln!(
+                    Err(e) => say!(
                         "sdfc: {} is not valid UTF-8 (from byte {}); waiting for the next change",
                         r.scene.display(),
                         e.utf8_error().valid_up_to()
@@ -57,7 +58,7 @@ pub fn run(r: &Request) -> Outcome {
                                 None => {
                                     // Edited again before its frame: on to the new version at
                                     // once (its pipeline goes on building, into the cache).
-                                    eprintln!(
+                                    say!(
                                         "sdfc: {} changed before its frame; rendering the new version",
                                         r.scene.display()
                                     );
@@ -72,14 +73,14 @@ pub fn run(r: &Request) -> Outcome {
                             warming = true;
                             warm(&renderer);
                         }
-                        eprintln!("sdfc: waiting for a change to {}", r.scene.display());
+                        say!("sdfc: waiting for a change to {}", r.scene.display());
                     }
                 }
             }
             Ok(_) => unreadable = false,
             Err(e) => {
                 if !unreadable {
-                    eprintln!(
+                    say!(
                         "sdfc: cannot read {}: {e}; waiting for it",
                         r.scene.display()
                     );
@@ -96,11 +97,11 @@ pub fn run(r: &Request) -> Outcome {
 fn warm(renderer: &sdfc_render::Renderer) {
     let started = Instant::now();
     renderer.warm_interpreter_in_background(move |warm| match warm {
-        Ok(()) => eprintln!(
+        Ok(()) => say!(
             "sdfc: the interpreter is warm after {:.2?}: previews from now on",
             started.elapsed()
         ),
-        Err(e) => eprintln!("sdfc: no previews: the interpreter could not be warmed: {e}"),
+        Err(e) => say!("sdfc: no previews: the interpreter could not be warmed: {e}"),
     });
 }
 

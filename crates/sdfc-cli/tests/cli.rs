@@ -1,6 +1,6 @@
 //! End-to-end tests of the `sdfc` binary against the CLI contract (`shared/spec/cli.md`):
 //! outputs, files written, exit statuses (0 ok, 1 a problem in the input, 2 usage or
-//! environment), and never a panic or a backtrace. `render` has its own tests in `render.rs`; `bench` is not built yet.
+//! environment), and never a panic or a backtrace. `render` and `bench` have their own tests in `render.rs`; the output streams in `streams.rs`.
 
 mod common;
 
@@ -114,6 +114,72 @@ fn compile_lib_with_import_path() {
     let lib_file = t.write("lib.wgsl", &run.stdout);
     let check = sdfc_in(&t.0, &["check", s(&lib_file)]).expect_code(0);
     assert!(check.stdout.starts_with("ok"), "{}", check.describe());
+}
+
+/// An import path that naga_oil cannot read (or a newline, which made the written module
+/// invalid after it was validated) is a usage error, and nothing is written.
+#[test]
+fn compile_lib_refuses_a_malformed_import_path() {
+    let t = TempDir::new("compile-import-bad");
+    let scene = t.write("scene.sdf", SPHERE);
+    for bad in ["a\nb", "a b", "", "my::", "::a", "1st", "a-b"] {
+        let run =
+            sdfc_in(&t.0, &["compile", s(&scene), "--lib", "--import-path", bad]).expect_code(2);
+        assert!(run.stdout.is_empty(), "{bad:?}: {}", run.describe());
+        assert!(
+            run.stderr.contains("identifiers joined by `::`"),
+            "{bad:?}: {}",
+            run.describe()
+        );
+    }
+    sdfc_in(
+        &t.0,
+        &["compile", s(&scene), "--lib", "--import-path", "_a::b2::C"],
+    )
+    .expect_code(0);
+}
+
+/// `--lib` shapes the WGSL only; with another `--emit` it would be silently ignored.
+#[test]
+fn compile_lib_with_another_emit_is_a_usage_error() {
+    let t = TempDir::new("compile-lib-emit");
+    let scene = t.write("scene.sdf", SPHERE);
+    for emit in ["ast", "ir", "opt-ir"] {
+        let run = sdfc_in(&t.0, &["compile", s(&scene), "--lib", "--emit", emit]).expect_code(2);
+        assert!(run.stdout.is_empty(), "{emit}: {}", run.describe());
+    }
+}
+
+/// The library form's header names only the globals the module declares.
+#[test]
+fn compile_lib_header_names_what_the_module_has() {
+    let t = TempDir::new("compile-lib-header");
+    for (src, names) in [
+        (SPHERE, "the functions need no setup"),
+        (PARAM_SPHERE, "set `scene_params` before calling"),
+        (
+            "scene = sphere(1 + time);\n",
+            "set `scene_time` before calling",
+        ),
+        (
+            "param r = 1;\nscene = sphere(r + time);\n",
+            "set `scene_time` and `scene_params`",
+        ),
+    ] {
+        let scene = t.write("scene.sdf", src);
+        let run = sdfc_in(&t.0, &["compile", s(&scene), "--lib"]).expect_code(0);
+        assert!(run.stdout.contains(names), "{src}: {}", run.describe());
+        for global in ["scene_time", "scene_params"] {
+            let declared = run.stdout.contains(&format!("var<private> {global}"));
+            let named = run
+                .stdout
+                .lines()
+                .nth(1)
+                .unwrap_or_default()
+                .contains(global);
+            assert_eq!(declared, named, "{src} {global}: {}", run.describe());
+        }
+    }
 }
 
 #[test]
@@ -319,9 +385,20 @@ fn check_rejects_broken_wgsl() {
         "naga's report goes to stderr:\n{}",
         run.describe()
     );
+    // The line names the place and the problem.
+    assert!(
+        lines[0].contains("bad.wgsl:1:") && lines[0].contains("invalid WGSL: "),
+        "{}",
+        run.describe()
+    );
     // A syntax error, too.
     let syntax = t.write("syntax.wgsl", "fn f( {\n");
-    sdfc_in(&t.0, &["check", s(&syntax)]).expect_code(1);
+    let run = sdfc_in(&t.0, &["check", s(&syntax)]).expect_code(1);
+    assert!(run.stdout.contains("syntax.wgsl:1:"), "{}", run.describe());
+    // The extension in upper case is a shader still, not a scene.
+    let upper = t.write("UPPER.WGSL", "fn f() -> f32 { return 1.0; }\n");
+    let run = sdfc_in(&t.0, &["check", s(&upper)]).expect_code(0);
+    assert!(run.stdout.starts_with("ok"), "{}", run.describe());
 }
 
 #[test]
@@ -470,6 +547,32 @@ fn eval_bad_csv_line_is_an_input_error() {
             "{}",
             run.describe()
         );
+        assert!(run.stderr.contains("hint: "), "{}", run.describe());
+    }
+    // The column is the first field that is not a number.
+    let pts = t.write("field.csv", "1, 2, zz\n");
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(1);
+    assert!(run.stderr.contains("field.csv:1:7)"), "{}", run.describe());
+    // Invalid UTF-8 is a mistake in the input, placed like a scene's.
+    let pts = t.write("utf8.csv", b"0,0,0\n1,\xff,0\n");
+    let run = sdfc_in(&t.0, &["eval", s(&scene), "--points", s(&pts)]).expect_code(1);
+    assert!(run.stderr.contains("utf8.csv:2:3"), "{}", run.describe());
+}
+
+/// A time that is not finite is refused before anything is evaluated, as by `render`: the
+/// reference evaluator printed NaN for every point.
+#[test]
+fn eval_refuses_a_time_that_is_not_finite() {
+    let t = TempDir::new("eval-time");
+    let scene = t.write("sphere.sdf", "scene = sphere(1 + time);\n");
+    let pts = t.write("pts.csv", "0,0,0\n");
+    for time in ["inf", "NaN", "-inf"] {
+        let run = sdfc_in(
+            &t.0,
+            &["eval", s(&scene), "--points", s(&pts), "--time", time],
+        )
+        .expect_code(2);
+        assert!(run.stdout.is_empty(), "{time}: {}", run.describe());
     }
 }
 

@@ -508,15 +508,36 @@ fn normal_and_steps_aovs() {
     assert!(st[centre] >= 1.0);
 }
 
+/// An output that cannot be written is refused before the device opens (the render used to
+/// run in full first), for `render` and for `bench`'s pictures; needs no device.
 #[test]
-fn unwritable_output_is_an_environment_error() {
-    if !have_device() {
-        return;
-    }
+fn unwritable_output_is_an_environment_error_before_any_work() {
     let t = TempDir::new("unwritable");
     let scene = t.write("s.sdf", SPHERE);
-    let out = t.path("no/such/dir/o.png");
-    sdfc_in(&t.0, &["render", s(&scene), "-o", s(&out), "--size", "8x8"]).expect_code(2);
+    let missing = t.path("no/such/dir/o.png");
+    let dir = t.path("a_dir.png");
+    std::fs::create_dir(&dir).expect("a directory");
+    let jpg = t.path("plot.jpg");
+    for args in [
+        vec!["render", s(&scene), "-o", s(&missing), "--size", "8x8"],
+        vec!["render", s(&scene), "-o", s(&dir), "--size", "8x8"],
+        vec!["bench", s(&scene), "--size", "8x8", "--plot", s(&missing)],
+        vec!["bench", s(&scene), "--size", "8x8", "--heatmap", s(&dir)],
+        vec!["bench", s(&scene), "--size", "8x8", "--plot", s(&jpg)],
+    ] {
+        let run = sdfc_in(&t.0, &args).expect_code(2);
+        assert!(
+            run.stderr.contains("cannot write") || run.stderr.contains("should end in .png"),
+            "{args:?}: {}",
+            run.describe()
+        );
+        assert!(
+            !run.stderr.contains("device:"),
+            "checked before the device opens: {}",
+            run.describe()
+        );
+    }
+    assert!(!jpg.exists());
 }
 
 // ---- eval --gpu ----

@@ -222,6 +222,10 @@ pub mod limits {
     pub const MAX_REPEAT_COUNT: u32 = 100_000;
     /// Nodes in the value graph after inlining (guards against exponential `fn` growth).
     pub const MAX_NODES: usize = 2_000_000;
+    /// `fn` calls expanded while inlining. Hash-consing can keep the graph small while the
+    /// expansion is exponential (`fn f1(x) = f0(x) + f0(x);` and so on: 26 levels are 67
+    /// million calls for 27 nodes), so the work is bounded as well as the result.
+    pub const MAX_INLINED_CALLS: u64 = 1_000_000;
     /// Shapes of the scene unfolded into a tree (a `let` shape counts once per use). A
     /// 1 MiB file of one flat union holds about 28 000 shapes (56 000 with a transform each).
     pub const MAX_SHAPE_INSTANCES: u64 = 100_000;

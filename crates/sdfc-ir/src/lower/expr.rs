@@ -361,6 +361,7 @@ impl<'a> Lowerer<'a> {
                     .with_hint("sdfc inlines every fn, so a fn may not call itself, directly or through another fn"),
             ));
         }
+        self.count_inlined_call(span)?;
         let names: Vec<&str> = def.params.iter().map(|p| p.name.name.as_str()).collect();
         let required = def
             .params
@@ -446,10 +447,15 @@ impl<'a> Lowerer<'a> {
             Val::Poison => Err(Reported),
             other => {
                 let d = self.describe(&other);
-                Err(self.error(
+                let mut diag =
                     Diagnostic::error(span, format!("{what} must be a number, found {d}"))
-                        .with_label("expected a number"),
-                ))
+                        .with_label("expected a number");
+                if matches!(other, Val::Num(n) if self.g.ty(n) == Ty::Bool) {
+                    diag = diag.with_hint(
+                        "a comparison is true or false; to pick a number by it, write `select(a, b, cond)` (b where cond holds, else a)",
+                    );
+                }
+                Err(self.error(diag))
             }
         }
     }
@@ -500,13 +506,15 @@ impl<'a> Lowerer<'a> {
             Val::Poison => return Err(Reported),
             other => {
                 let d = self.describe(&other);
-                return Err(self.error(
-                    Diagnostic::error(
-                        e.span,
-                        format!("{what} must be a constant value, found {d}"),
-                    )
-                    .with_label("expected a number or vector"),
-                ));
+                let mut diag = Diagnostic::error(
+                    e.span,
+                    format!("{what} must be a constant value, found {d}"),
+                )
+                .with_label("expected a number or vector");
+                if what == "a param's default" && matches!(other, Val::Shape(_)) {
+                    diag = diag.with_hint("a param is a number or vector that a render can change; name a shape with `let`, and give it a param as its size: `param r = 1; let blob = sphere(r);`");
+                }
+                return Err(self.error(diag));
             }
         };
         match self.const_of(n) {

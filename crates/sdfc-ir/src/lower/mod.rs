@@ -71,6 +71,8 @@ pub(crate) struct Lowerer<'a> {
     next_lambda: u32,
     const_memo: FxHashMap<NodeId, Option<Value<f32>>>,
     too_big: bool,
+    /// `fn` calls inlined so far (bounded by `limits::MAX_INLINED_CALLS`).
+    inlined_calls: u64,
     /// Where each `let`, `fn`, `param` and `material` of the file is defined, to explain a
     /// use above its definition.
     pub definitions: FxHashMap<&'a str, Span>,
@@ -95,6 +97,7 @@ impl<'a> Lowerer<'a> {
             next_lambda: 0,
             const_memo: FxHashMap::default(),
             too_big: false,
+            inlined_calls: 0,
             definitions: FxHashMap::default(),
         }
     }
@@ -386,6 +389,26 @@ impl<'a> Lowerer<'a> {
                     )
                     .with_label("while expanding this")
                     .with_hint("a `fn` or `let` that doubles its input on every level grows exponentially; share values with `let` instead"),
+                );
+            }
+            return Err(Reported);
+        }
+        Ok(())
+    }
+
+    /// Counts one more `fn` call inlined; past the budget, reports once.
+    pub fn count_inlined_call(&mut self, span: Span) -> R<()> {
+        self.inlined_calls += 1;
+        if self.inlined_calls > limits::MAX_INLINED_CALLS {
+            if !self.too_big {
+                self.too_big = true;
+                self.error(
+                    Diagnostic::error(
+                        span,
+                        format!("more than {} `fn` calls once every `fn` is inlined", limits::MAX_INLINED_CALLS),
+                    )
+                    .with_label("while expanding this call")
+                    .with_hint("a `fn` that calls another twice doubles the work on every level; compute the value once with `let` and use the name twice"),
                 );
             }
             return Err(Reported);

@@ -97,7 +97,13 @@ impl<'a> Lowerer<'a> {
         if x < lo || x > hi {
             let mut d = Diagnostic::error(
                 f.value.span,
-                format!("`{}` must be between {lo} and {hi}, found {x}", f.name.name),
+                format!(
+                    "`{}` must be between {} and {}, found {}",
+                    f.name.name,
+                    readable(lo),
+                    readable(hi),
+                    readable(x)
+                ),
             )
             .with_label("out of range");
             if !hint.is_empty() {
@@ -622,5 +628,16 @@ fn word(e: &Expr) -> Option<&str> {
     match &e.kind {
         ExprKind::Name(id) => Some(id.name.as_str()),
         _ => None,
+    }
+}
+
+/// A number as a message shows it: `1e30` and `1e-6` in exponent form rather than thirty
+/// digits, others as written (`0.5`, `1000`).
+fn readable(x: f32) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e6).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }

@@ -405,7 +405,12 @@ impl<'a> Lowerer<'a> {
                         lam.params.len()
                     ),
                 )
-                .with_label("wrong number of parameters"),
+                .with_label("wrong number of parameters")
+                .with_hint(if tys.len() == 1 {
+                    "the one parameter is the point, a vec3: `|p| length(p) - 1`"
+                } else {
+                    "the two parameters are the ground point's x and z; the lambda gives the height there: `|x, z| sin(x) * cos(z)`"
+                }),
             ));
         }
         let id = self.fresh_lambda();
@@ -643,10 +648,13 @@ impl<'a> Lowerer<'a> {
             Val::Poison => Err(Reported),
             other => {
                 let d = self.describe(&other);
-                Err(self.error(
+                let mut diag =
                     Diagnostic::error(e.span, format!("{what} must be a vec3, found {d}"))
-                        .with_label("expected `[x, y, z]`"),
-                ))
+                        .with_label("expected `[x, y, z]`");
+                if matches!(other, Val::Num(n) if self.g.ty(n) == Ty::F32) {
+                    diag = diag.with_hint("a vec3 has three components, `[x, y, z]`: `[2, 0, 0]`, or `[2, 2, 2]` for the same on every axis");
+                }
+                Err(self.error(diag))
             }
         }
     }

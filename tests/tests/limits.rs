@@ -7,7 +7,7 @@
 //! here (every function has at most `MAX_FUNCTION_NODES` nodes) is what keeps time linear.
 //! The times themselves are measured by the `max_size` benchmark of `benches/compile.rs`.
 
-use sdfc_ir::scene::limits::{MAX_INLINED_CALLS, MAX_NODES, MAX_SHAPE_INSTANCES};
+use sdfc_ir::scene::limits::{MAX_INLINED_CALLS, MAX_MAGNITUDE, MAX_NODES, MAX_SHAPE_INSTANCES};
 use sdfc_syntax::MAX_SOURCE_BYTES;
 use sdfc_tests::{doubling_lets, max_size_union};
 use sdfc_wgsl::{compile, Compiled, Failure, Options};
@@ -148,6 +148,47 @@ fn doubling_fns_of_equal_values_hit_the_call_limit() {
     }
     ok += "scene = sphere(f18(r) / 100000);\n";
     compiled("a chain under the call limit", &ok);
+}
+
+/// Found by the language audit of 2026-12-04: finite but huge sizes made the emitted WGSL
+/// invalid (an internal error, exit 2): `-inf.0` in `ray_span` where the bounds left f32's
+/// range, and constant expressions that overflow, which WGSL makes an error (a capsule's
+/// `dot(b - a, b - a)` under analytic normals). Arguments past the limit are now the user's
+/// error, placed at the argument; at the limit every primitive's shader validates.
+#[test]
+fn sizes_past_the_magnitude_limit_are_refused_and_at_it_compile() {
+    for scene in [
+        "scene = sphere(3.4028234e38);",
+        "scene = sphere(2).scale(2e38);",
+        "scene = hex_prism(3e38, 1);",
+        "render { normals: analytic }\nscene = capsule([0, 0, 0], [1e20, 0, 0], 1);",
+        "render { normals: analytic }\nscene = cone(1e30, 1e30);",
+        "render { normals: analytic }\nscene = pyramid(1e30);",
+    ] {
+        let msg = refused(scene, scene);
+        assert!(
+            msg.contains(&format!("beyond {MAX_MAGNITUDE:e} in magnitude")),
+            "{scene}: {msg}"
+        );
+    }
+    for normals in ["central", "analytic"] {
+        for shape in [
+            "cone(1e12, 1e12)",
+            "capsule([0, 0, 0], [1e12, -1e12, 1e12], 1e12)",
+            "pyramid(1e12)",
+            "hex_prism(1e12, 1e12)",
+            "torus(1e12, 1e12)",
+            "capped_cone(1e12, 1e12, 1e12)",
+            "ellipsoid([1e12, 1e12, 1e-3])",
+            "box(1e12).round(1e12)",
+            // Bounds past f32's range: `ray_span` leaves that axis unclipped.
+            "sphere(1e12).scale(1e12).scale(1e12).scale(1e12)",
+            "sphere(0.1).repeat([1e38, 0, 0], count: [100000, 1, 1])",
+        ] {
+            let scene = format!("render {{ normals: {normals} }}\nscene = {shape};\n");
+            compiled(&scene, &scene);
+        }
+    }
 }
 
 #[test]

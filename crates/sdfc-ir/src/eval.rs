@@ -266,8 +266,11 @@ fn builtin<T: Float>(b: Builtin, a: &[Value<T>]) -> Value<T> {
         Fract => a[0].map(|x| x - x.floor()),
         Round => a[0].map(|x| x.round_even()),
         Sqrt => a[0].map(|x| x.sqrt()),
+        // As GPUs compute WGSL's `pow` (and naga lowers it): `exp2(y * log2(x))`, so a
+        // negative base is NaN and `pow(0, 0)` too, where `powf` would give -8 for
+        // `pow(-2, 3)` and the device NaN (found by the language audit of 2026-12-04).
         Pow => zip(&a[0], &a[1], |x, y| {
-            T::from_f64(x.to_f64().powf(y.to_f64()))
+            T::from_f64((y.to_f64() * x.to_f64().log2()).exp2())
         }),
         Exp => a[0].map(|x| x.map64(f64::exp)),
         Log => a[0].map(|x| x.map64(f64::ln)),

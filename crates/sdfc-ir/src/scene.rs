@@ -226,6 +226,9 @@ pub mod limits {
     /// expansion is exponential (`fn f1(x) = f0(x) + f0(x);` and so on: 26 levels are 67
     /// million calls for 27 nodes), so the work is bounded as well as the result.
     pub const MAX_INLINED_CALLS: u64 = 1_000_000;
+    /// The largest magnitude of a constant shape or transform argument (a size, a position,
+    /// a factor): three such multiplied stay below f32's 3.4e38.
+    pub const MAX_MAGNITUDE: f32 = 1e12;
     /// Shapes of the scene unfolded into a tree (a `let` shape counts once per use). A
     /// 1 MiB file of one flat union holds about 28 000 shapes (56 000 with a transform each).
     pub const MAX_SHAPE_INSTANCES: u64 = 100_000;

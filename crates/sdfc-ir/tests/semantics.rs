@@ -247,3 +247,16 @@ fn transform_chains_merge_into_one_map() {
     );
     assert!((a - b).abs() < 1e-6, "{a} {b}");
 }
+
+/// `pow` means what the device computes, `exp2(y * log2(x))`: a negative base is NaN (the
+/// evaluator had `powf`'s -8 for `pow(-2, 3)` where the device gives NaN), and so is
+/// `pow(0, 0)`; positive bases keep their values.
+#[test]
+fn pow_has_the_devices_meaning() {
+    let cube = |x: f64| dist("scene = sdf(|p| pow(p.x, 3));", [x, 0.0, 0.0]);
+    assert!(close(cube(2.0), 8.0), "{}", cube(2.0));
+    assert!(close(cube(0.5), 0.125), "{}", cube(0.5));
+    assert!(cube(-2.0).is_nan(), "{}", cube(-2.0));
+    let zero = dist("scene = sdf(|p| pow(p.x, p.y));", [0.0, 0.0, 0.0]);
+    assert!(zero.is_nan(), "pow(0, 0): {zero}");
+}

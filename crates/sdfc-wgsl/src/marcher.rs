@@ -209,12 +209,15 @@ pub fn span_slabs(bounds: ([f64; 3], [f64; 3]), origin: [f32; 3]) -> [Option<(f3
         .fold(0.0f64, f64::max);
     let pad = (1e-3 * size).max(1e-3);
     std::array::from_fn(|k| {
-        finite(k).then(|| {
-            (
-                f32_down(lo[k] - origin[k] as f64 - pad),
-                f32_up(hi[k] - origin[k] as f64 + pad),
-            )
-        })
+        // A slab past f32's range (bounds grown by nested scales) clips nothing: unbounded.
+        finite(k)
+            .then(|| {
+                (
+                    f32_down(lo[k] - origin[k] as f64 - pad),
+                    f32_up(hi[k] - origin[k] as f64 + pad),
+                )
+            })
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
     })
 }
 

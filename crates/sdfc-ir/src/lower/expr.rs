@@ -522,7 +522,7 @@ impl<'a> Lowerer<'a> {
             Some(_) => Err(self.error(
                 Diagnostic::error(e.span, format!("{what} is not finite"))
                     .with_label("evaluates to infinity or NaN")
-                    .with_hint("check for a division by zero or an overflow"),
+                    .with_hint("check for a division by zero, a root, log or `pow` of a negative number, or an overflow"),
             )),
             None => Err(self.error(
                 Diagnostic::error(e.span, format!("{what} must be a constant"))

@@ -228,7 +228,7 @@ impl<'a> Lowerer<'a> {
                                 )
                                 .with_label("evaluates to infinity or NaN")
                                 .with_hint(
-                                    "check for a division by zero or an overflow past 3.4e38",
+                                    "check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38",
                                 ),
                             );
                             v = Val::Poison;

@@ -590,13 +590,23 @@ impl<'a> Lowerer<'a> {
         self.check_finite(n, e.span, what)
     }
 
-    /// A constant argument must be finite: `1 / 0` is an error where it is written.
+    /// A constant argument must be finite (`1 / 0` is an error where it is written) and
+    /// within `limits::MAX_MAGNITUDE`: the compiled formulas multiply sizes together (a
+    /// capsule's `dot(b - a, b - a)`, a cone's slopes, a scene's bounds), and a product past
+    /// f32's 3.4e38 would make the shader invalid, since WGSL makes an overflow in a
+    /// constant expression an error.
     pub(super) fn check_finite(&mut self, n: NodeId, span: Span, what: &str) -> R<NodeId> {
+        let max = crate::scene::limits::MAX_MAGNITUDE;
         match self.const_of(n) {
             Some(v) if !v.all_finite() => Err(self.error(
                 Diagnostic::error(span, format!("{what} is not finite"))
                     .with_label("evaluates to infinity or NaN")
-                    .with_hint("check for a division by zero or an overflow past 3.4e38"),
+                    .with_hint("check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38"),
+            )),
+            Some(v) if v.comps().iter().any(|x| x.abs() > max) => Err(self.error(
+                Diagnostic::error(span, format!("{what} is beyond {max:e} in magnitude"))
+                    .with_label("too large")
+                    .with_hint("the shader computes in f32, whose neighbouring values are 65 536 apart at 1e12; model the scene in larger units"),
             )),
             _ => Ok(n),
         }

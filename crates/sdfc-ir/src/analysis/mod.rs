@@ -564,8 +564,8 @@ impl Analyser<'_> {
                 if !r.is_finite() && raw.is_none() {
                     let name = if twist { "twist" } else { "bend" };
                     self.out.diagnostics.push(
-                        Diagnostic::error(span, format!("`{name}` of a shape with no bounds needs a declared Lipschitz bound"))
-                            .with_label("unbounded shape")
+                        Diagnostic::error(span, format!("`{name}` of a shape whose bounds are not known at compile time needs a declared Lipschitz bound"))
+                            .with_label("unbounded, repeated, or sized by a param")
                             .with_hint(format!("bound the shape (intersect it with a box), or give `lipschitz: L` with L at least 1 + |k| times the largest distance from the {} axis your scene reaches", if twist { "y" } else { "z" })),
                     );
                     return (b, None, Source::Symbolic);

@@ -298,7 +298,11 @@ impl<'a> Lowerer<'a> {
             }
         }
         if idx.is_empty() || idx.len() > 3 {
-            let comps = if width == 2 { "x and y" } else { "x, y and z" };
+            let (comps, example) = if width == 2 {
+                ("x and y", ".yx")
+            } else {
+                ("x, y and z", ".xz")
+            };
             return Err(self.error(
                 Diagnostic::error(
                     letters.span,
@@ -309,7 +313,7 @@ impl<'a> Lowerer<'a> {
                     ),
                 )
                 .with_label("unknown component")
-                .with_hint(format!("use 1 to 3 of the letters {comps}, such as `.xz`")),
+                .with_hint(format!("use 1 to 3 of the letters {comps}, such as `{example}`")),
             ));
         }
         Ok(Val::Num(self.g.add(
@@ -450,7 +454,9 @@ impl<'a> Lowerer<'a> {
                 let mut diag =
                     Diagnostic::error(span, format!("{what} must be a number, found {d}"))
                         .with_label("expected a number");
-                if matches!(other, Val::Num(n) if self.g.ty(n) == Ty::Bool) {
+                if what == "`smooth`" && matches!(other, Val::Shape(_)) {
+                    diag = diag.with_hint("`smooth` is a blend radius; to combine more shapes, make them one first: `subtract(a, union(b, c))`");
+                } else if matches!(other, Val::Num(n) if self.g.ty(n) == Ty::Bool) {
                     diag = diag.with_hint(
                         "a comparison is true or false; to pick a number by it, write `select(a, b, cond)` (b where cond holds, else a)",
                     );

@@ -55,6 +55,8 @@ pub enum Outcome {
 }
 
 fn main() -> ExitCode {
+    // Before any thread starts: it may set an environment variable.
+    sdfc_render::quiet_headless_vulkan();
     // A bug must never show a Rust backtrace to a user: report it in one line instead.
     std::panic::set_hook(Box::new(|info| {
         say!("sdfc: internal error: {info}");

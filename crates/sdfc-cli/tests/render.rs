@@ -540,6 +540,29 @@ fn unwritable_output_is_an_environment_error_before_any_work() {
     assert!(!jpg.exists());
 }
 
+/// On a machine without a desktop session (no `XDG_RUNTIME_DIR`), Mesa's device-select
+/// layer made libwayland print "error: XDG_RUNTIME_DIR is invalid ..." twice on every device
+/// run, as if it were sdfc's error; sdfc now switches the layer off there.
+#[test]
+fn a_headless_machine_gets_no_wayland_noise() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("headless");
+    let scene = t.write("s.sdf", SPHERE);
+    let pts = t.write("p.csv", "2,0,0\n");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sdfc"))
+        .args(["eval", s(&scene), "--points", s(&pts), "--gpu"])
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .expect("sdfc runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+    assert!(stderr.contains("device:"), "{stderr}");
+}
+
 // ---- eval --gpu ----
 
 #[test]

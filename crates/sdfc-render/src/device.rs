@@ -71,6 +71,21 @@ pub struct Shared {
     sink: Arc<ErrorSink>,
 }
 
+/// Mesa's device-select layer, an implicit Vulkan layer, connects to the Wayland display to
+/// learn the desktop's GPU; on a machine without a session (no `XDG_RUNTIME_DIR`: CI, SSH,
+/// containers) libwayland then prints "error: XDG_RUNTIME_DIR is invalid or not set in the
+/// environment." twice on every run, which reads as the program's own error. The renderer
+/// ranks the adapters itself ([`rank`]), so the layer adds nothing: this switches it off
+/// (`NODEVICE_SELECT=1`) where there is no session and the user has not chosen. It sets an
+/// environment variable, so call it first thing in `main`, before any thread starts.
+pub fn quiet_headless_vulkan() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+}
+
 /// The backends `SDFC_BACKEND` allows.
 fn backends_from_env() -> Result<wgpu::Backends, RenderError> {
     match std::env::var("SDFC_BACKEND") {

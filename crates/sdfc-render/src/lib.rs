@@ -72,7 +72,7 @@ mod params;
 mod pipelines;
 mod render;
 
-pub use device::{AdapterDescription, Renderer};
+pub use device::{quiet_headless_vulkan, AdapterDescription, Renderer};
 pub use error::RenderError;
 pub use live::{Drawn, LiveOptions, LiveReport};
 pub use output::AovKind;

@@ -313,7 +313,9 @@ impl<'a> Lowerer<'a> {
                     ),
                 )
                 .with_label("unknown component")
-                .with_hint(format!("use 1 to 3 of the letters {comps}, such as `{example}`")),
+                .with_hint(format!(
+                    "use 1 to 3 of the letters {comps}, such as `{example}`"
+                )),
             ));
         }
         Ok(Val::Num(self.g.add(

@@ -260,3 +260,18 @@ fn pow_has_the_devices_meaning() {
     let zero = dist("scene = sdf(|p| pow(p.x, p.y));", [0.0, 0.0, 0.0]);
     assert!(zero.is_nan(), "pow(0, 0): {zero}");
 }
+
+/// An unused `fn` is checked with its parameters unknown: what depends on them raises no
+/// error, so a library of helpers compiles whether or not the scene calls them.
+#[test]
+fn unused_fns_with_parameters_compile_cleanly() {
+    let src = "fn moved(s, r) = s.translate([r, 0, 0]) | sphere(r).material(red);\n\
+               fn blend(a, b, k = 0.5) = union(a, b, smooth: k);\n\
+               fn ring(r) = sdf(|p| length(p.xz) - r, lipschitz: 1);\n\
+               material red { color: [1, 0, 0] }\n\
+               scene = sphere(1);\n";
+    let file = sdfc_syntax::parse(src).expect("parses");
+    let (stages, diags) = sdfc_ir::compile(&file, src.len());
+    assert!(stages.is_some(), "{diags:?}");
+    assert!(diags.is_empty(), "{diags:?}");
+}

@@ -368,6 +368,7 @@ impl<'a> Lowerer<'a> {
             ));
         }
         self.count_inlined_call(span)?;
+        self.called.insert(def.index);
         let names: Vec<&str> = def.params.iter().map(|p| p.name.name.as_str()).collect();
         let required = def
             .params
@@ -460,7 +461,7 @@ impl<'a> Lowerer<'a> {
                     diag = diag.with_hint("`smooth` is a blend radius; to combine more shapes, make them one first: `subtract(a, union(b, c))`");
                 } else if matches!(other, Val::Num(n) if self.g.ty(n) == Ty::Bool) {
                     diag = diag.with_hint(
-                        "a comparison is true or false; to pick a number by it, write `select(a, b, cond)` (b where cond holds, else a)",
+                        "a boolean (a comparison, `true` or `false`) is not a number; to pick a number by one, write `select(a, b, cond)` (b where cond holds, else a)",
                     );
                 }
                 Err(self.error(diag))

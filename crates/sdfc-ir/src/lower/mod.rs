@@ -12,7 +12,7 @@ mod shapes;
 mod warps;
 
 use crate::graph::{Graph, NodeId};
-use crate::hash::FxHashMap;
+use crate::hash::{FxHashMap, FxHashSet};
 use crate::ops::Op;
 use crate::scene::{limits, Camera, Material, ParamDecl, RenderSettings, Scene};
 use crate::shape::{ShapeId, ShapeKind, ShapeNode};
@@ -60,7 +60,7 @@ pub(crate) struct Lowerer<'a> {
     globals: Vec<(&'a str, Val<'a>, Span)>,
     global_index: FxHashMap<&'a str, usize>,
     pub materials: Vec<Material>,
-    material_spans: Vec<Span>,
+    pub material_spans: Vec<Span>,
     pub params: Vec<ParamDecl>,
     lights: Vec<crate::scene::Light>,
     camera: Option<(Camera, Span)>,
@@ -73,6 +73,8 @@ pub(crate) struct Lowerer<'a> {
     too_big: bool,
     /// `fn` calls inlined so far (bounded by `limits::MAX_INLINED_CALLS`).
     inlined_calls: u64,
+    /// The `fn`s (by global index) lowered at least once, called or checked.
+    pub called: FxHashSet<usize>,
     /// Where each `let`, `fn`, `param` and `material` of the file is defined, to explain a
     /// use above its definition.
     pub definitions: FxHashMap<&'a str, Span>,
@@ -98,6 +100,7 @@ impl<'a> Lowerer<'a> {
             const_memo: FxHashMap::default(),
             too_big: false,
             inlined_calls: 0,
+            called: FxHashSet::default(),
             definitions: FxHashMap::default(),
         }
     }
@@ -217,23 +220,9 @@ impl<'a> Lowerer<'a> {
             match &item.kind {
                 ItemKind::Let { name, value } => {
                     let scope = self.global_scope();
-                    let mut v = self.expr(value, &scope).unwrap_or(Val::Poison);
+                    let v = self.expr(value, &scope).unwrap_or(Val::Poison);
                     // `let big = 1e30 * 1e30;` is wrong where it is written, not where used.
-                    if let Val::Num(n) = v {
-                        if self.const_of(n).is_some_and(|c| !c.all_finite()) {
-                            self.error(
-                                Diagnostic::error(
-                                    value.span,
-                                    "a constant expression is not finite",
-                                )
-                                .with_label("evaluates to infinity or NaN")
-                                .with_hint(
-                                    "check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38",
-                                ),
-                            );
-                            v = Val::Poison;
-                        }
-                    }
+                    let v = self.finite_or_reported(v, value.span);
                     self.define(name, v);
                 }
                 ItemKind::Fn { name, params, body } => {
@@ -303,6 +292,9 @@ impl<'a> Lowerer<'a> {
                 }
             }
         }
+        if !self.too_big {
+            self.check_uncalled_fns();
+        }
         if self.scene.is_none() {
             let end = source_len;
             self.error(
@@ -311,6 +303,59 @@ impl<'a> Lowerer<'a> {
                     .with_hint("add a line such as `scene = sphere(1);`"),
             );
         }
+    }
+
+    /// A `fn` is lowered where it is called, so the mistakes in one that is never called
+    /// would go unreported (`fn f(x) = 1 / 0;`, which the contract makes an error). Each such
+    /// body is lowered once with its parameters unknown (`Val::Poison`, which is silent:
+    /// whatever depends on a parameter is not checked) and the result dropped; the graph's
+    /// dead nodes go with dead code elimination.
+    fn check_uncalled_fns(&mut self) {
+        let uncalled: Vec<Rc<FnDef<'a>>> = self
+            .globals
+            .iter()
+            .filter_map(|(_, v, _)| match v {
+                Val::Func(d) if !self.called.contains(&d.index) => Some(d.clone()),
+                _ => None,
+            })
+            .collect();
+        for def in uncalled {
+            if self.called.contains(&def.index) {
+                continue; // called from an unused fn checked before it
+            }
+            self.called.insert(def.index);
+            let scope = Scope {
+                locals: def
+                    .params
+                    .iter()
+                    .map(|p| (p.name.name.as_str(), Val::Poison))
+                    .collect(),
+                parent: None,
+                visible: def.index + 1,
+            };
+            self.call_stack.push(def.index);
+            if let Ok(v) = self.expr(def.body, &Rc::new(scope)) {
+                self.finite_or_reported(v, def.body.span);
+            }
+            self.call_stack.pop();
+        }
+    }
+
+    /// `v`, or `Val::Poison` with an error at `span` where it is a constant that is not
+    /// finite (a `let`'s value, an unused `fn`'s body that depends on no parameter).
+    fn finite_or_reported(&mut self, v: Val<'a>, span: Span) -> Val<'a> {
+        let Val::Num(n) = v else { return v };
+        if self.const_of(n).is_none_or(|c| c.all_finite()) {
+            return v;
+        }
+        self.error(
+            Diagnostic::error(span, "a constant expression is not finite")
+                .with_label("evaluates to infinity or NaN")
+                .with_hint(
+                    "check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38",
+                ),
+        );
+        Val::Poison
     }
 
     fn check_fn_params(&mut self, params: &'a [sdfc_syntax::ast::FnParam]) {

@@ -495,6 +495,13 @@ impl<'a> Lowerer<'a> {
             };
             return Err(self.error(d));
         };
+        // A `fn` body is lowered where the fn is called, when every material above the call
+        // is known; the contract still asks for the material above its use in the text.
+        if self.material_spans[material].start > id.span.start {
+            if let Some(d) = self.defined_later(&id.name, id.span, "the material") {
+                return Err(self.error(d));
+            }
+        }
         let kind = ShapeKind::Material {
             material: material as u32,
             child,

@@ -167,7 +167,7 @@ fn sizes_past_the_magnitude_limit_are_refused_and_at_it_compile() {
     ] {
         let msg = refused(scene, scene);
         assert!(
-            msg.contains(&format!("beyond {MAX_MAGNITUDE:e} in magnitude")),
+            msg.contains(&format!("must be at most {MAX_MAGNITUDE:e} in magnitude")),
             "{scene}: {msg}"
         );
     }

@@ -107,9 +107,6 @@ pub fn run(a: Args) -> Outcome {
                 Outcome::EnvError
             }
         },
-        None => match crate::out::print(&text) {
-            Ok(()) => Outcome::Ok,
-            Err(o) => o,
-        },
+        None => crate::out::print_last(&text),
     }
 }

@@ -26,9 +26,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
-    if !a.time.is_finite() {
-        say!("error: --time must be finite, found {}", a.time);
-        return Outcome::EnvError;
+    // The device's time is an f32 even where the reference evaluates in f64.
+    if let Err(o) = crate::render::check_time(a.time as f32) {
+        return o;
     }
     let compiled = match load_scene(&a.scene, &sdfc_wgsl::Options::default()) {
         Ok(c) => c,
@@ -77,10 +77,7 @@ pub fn run(a: Args) -> Outcome {
             out += &format!("{:?}\n", d[0].scalar().unwrap_or(f64::NAN));
         }
     }
-    match crate::out::print(&out) {
-        Ok(()) => Outcome::Ok,
-        Err(o) => o,
-    }
+    crate::out::print_last(&out)
 }
 
 /// The points of a CSV file, one `x,y,z` a line; blank lines and lines starting with `#` are

@@ -21,19 +21,39 @@ macro_rules! say_part {
 
 use crate::Outcome;
 use std::io::{ErrorKind, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Writes `text` to stdout. `Err` holds the outcome to stop with: success where the reader
-/// closed the pipe (`sdfc eval ... | head -1` asked for no more, as ripgrep and the
-/// coreutils take it), an environment error, reported, where the write failed otherwise.
+/// Whether the reader of stdout has gone: later output is dropped.
+static CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Writes `text` to stdout. A reader that closed the pipe (`sdfc eval ... | head -1`) asked
+/// for no more, as ripgrep and the coreutils take it: the text and all later output are
+/// dropped, and the command goes on to its files and its exit status (`check` still exits
+/// 1 if a file failed, `render --compare -o` still writes the picture). `Err` only where the
+/// write failed otherwise (a full disk): reported, with the environment's exit status.
 pub fn print(text: &str) -> Result<(), Outcome> {
+    if CLOSED.load(Ordering::Relaxed) {
+        return Ok(());
+    }
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
-        Err(e) if e.kind() == ErrorKind::BrokenPipe => Err(Outcome::Ok),
+        Err(e) if e.kind() == ErrorKind::BrokenPipe => {
+            CLOSED.store(true, Ordering::Relaxed);
+            Ok(())
+        }
         Err(e) => {
             say!("sdfc: cannot write to stdout: {e}");
             Err(Outcome::EnvError)
         }
+    }
+}
+
+/// [`print`] as a command's last step: its outcome.
+pub fn print_last(text: &str) -> Outcome {
+    match print(text) {
+        Ok(()) => Outcome::Ok,
+        Err(o) => o,
     }
 }
 

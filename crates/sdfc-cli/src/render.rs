@@ -244,6 +244,16 @@ fn check_output(out: &Path, aov: Option<AovKind>) -> Result<(), String> {
     }
 }
 
+/// `--time` as the device takes it: an f32 that is finite (`1e39` is too, as an f64).
+pub fn check_time(t: f32) -> Result<(), Outcome> {
+    if t.is_finite() {
+        Ok(())
+    } else {
+        say!("error: --time must be a finite f32, found {t}");
+        Err(Outcome::EnvError)
+    }
+}
+
 /// That a file can be written at `out` as far as can be told before the work: the path is not
 /// a directory and its directory exists, so that a typo does not cost a whole render first.
 pub fn check_place(out: &Path) -> Result<(), String> {
@@ -289,9 +299,8 @@ pub fn run(a: Args) -> Outcome {
             return Outcome::EnvError;
         }
     }
-    if !a.time.is_finite() {
-        say!("error: --time must be finite, found {}", a.time);
-        return Outcome::EnvError;
+    if let Err(o) = check_time(a.time) {
+        return o;
     }
     if a.live {
         return crate::live::run(crate::live::Request {

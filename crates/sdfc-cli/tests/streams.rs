@@ -110,3 +110,23 @@ fn an_unwritable_stderr_leaves_the_exit_status() {
         assert_eq!(out.status.code(), Some(code), "{args:?}");
     }
 }
+
+/// A closed stdout drops the lines, not the work: `check` still checks every file and exits
+/// 1 if one failed (it had exited 0 at the first line it could not write).
+#[test]
+fn a_closed_stdout_keeps_the_exit_status() {
+    let t = TempDir::new("closed-check");
+    let bad = t.write("bad.sdf", "scene = spher(1);\n");
+    let good = t.write("good.sdf", "scene = sphere(1);\n");
+    for _ in 0..3 {
+        let mut child = sdfc()
+            .args(["check", s(&bad), s(&good)])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("sdfc runs");
+        drop(child.stdout.take());
+        let status = child.wait().expect("sdfc ends");
+        assert_eq!(status.code(), Some(1));
+    }
+}

@@ -172,7 +172,7 @@ pub fn compile_with(
             diags.push(
                 Diagnostic::error(span, "a constant expression is not finite")
                     .with_label(msg)
-                    .with_hint("check for a division by zero, a root, log or `pow` of a negative number, or an overflow"),
+                    .with_hint(lower::NOT_FINITE_HINT),
             );
         }
     }

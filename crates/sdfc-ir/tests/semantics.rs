@@ -265,13 +265,58 @@ fn pow_has_the_devices_meaning() {
 /// error, so a library of helpers compiles whether or not the scene calls them.
 #[test]
 fn unused_fns_with_parameters_compile_cleanly() {
-    let src = "fn moved(s, r) = s.translate([r, 0, 0]) | sphere(r).material(red);\n\
+    let src = "material red { color: [1, 0, 0] }\n\
+               fn moved(s, r) = s.translate([r, 0, 0]) | sphere(r).material(red);\n\
                fn blend(a, b, k = 0.5) = union(a, b, smooth: k);\n\
-               fn ring(r) = sdf(|p| length(p.xz) - r, lipschitz: 1);\n\
-               material red { color: [1, 0, 0] }\n\
+               fn ring(r) = sdf(|p| length(p.xz) - r, lipschitz: 1).color([1, 0, 0]);\n\
                scene = sphere(1);\n";
     let file = sdfc_syntax::parse(src).expect("parses");
     let (stages, diags) = sdfc_ir::compile(&file, src.len());
     assert!(stages.is_some(), "{diags:?}");
     assert!(diags.is_empty(), "{diags:?}");
+}
+
+fn diagnostics_of(src: &str) -> Vec<String> {
+    let file = sdfc_syntax::parse(src).expect("parses");
+    let (_, diags) = sdfc_ir::compile(&file, src.len());
+    diags.into_iter().map(|d| d.message).collect()
+}
+
+/// Review of 2026-12-04: an anonymous material (`.color`) had no entry in the table of
+/// material spans, so a named material after one was looked up at the wrong index (a panic
+/// past the end), and so was a duplicate `material` item.
+#[test]
+fn colours_and_named_materials_mix_in_any_order() {
+    let src = "let a = sphere(1).color([1, 0, 0]);\n\
+               material red { color: [0, 1, 0] }\n\
+               scene = sphere(1).material(red) | a;\n";
+    assert!(diagnostics_of(src).is_empty());
+    let twice = "let a = sphere(1).color([1, 0, 0]);\n\
+                 material red { color: [0, 1, 0] }\n\
+                 material red { color: [0, 1, 1] }\n\
+                 scene = sphere(1).material(red) | a;\n";
+    let d = diagnostics_of(twice);
+    assert!(d.iter().any(|m| m.contains("already defined")), "{d:?}");
+}
+
+/// A mistake in a `fn` is reported once, however many times the fn is lowered (two calls,
+/// or the unused-`fn` check and a call from another unused fn), and the diagnostics come in
+/// the order of the text; a material defined below an unused fn that names it is reported
+/// even where the fn's shape is a parameter.
+#[test]
+fn fn_mistakes_are_reported_once_in_text_order() {
+    let d = diagnostics_of(
+        "fn f(x) = foo + x;\nfn g(y) = f(1) + y;\nscene = sphere(f(1)) | sphere(f(2));\n",
+    );
+    assert_eq!(d.iter().filter(|m| m.contains("`foo`")).count(), 1, "{d:?}");
+    let d = diagnostics_of("fn late(x) = bar;\nlet k = baz;\nscene = sphere(1);\n");
+    assert_eq!(d.len(), 2, "{d:?}");
+    assert!(d[0].contains("`bar`") && d[1].contains("`baz`"), "{d:?}");
+    let d = diagnostics_of(
+        "fn f(s) = s.material(red);\nmaterial red { color: [1, 0, 0] }\nscene = sphere(1);\n",
+    );
+    assert!(
+        d.iter().any(|m| m.contains("used before it is defined")),
+        "{d:?}"
+    );
 }

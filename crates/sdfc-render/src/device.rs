@@ -76,11 +76,19 @@ pub struct Shared {
 /// containers) libwayland then prints "error: XDG_RUNTIME_DIR is invalid or not set in the
 /// environment." twice on every run, which reads as the program's own error. The renderer
 /// ranks the adapters itself ([`rank`]), so the layer adds nothing: this switches it off
-/// (`NODEVICE_SELECT=1`) where there is no session and the user has not chosen. It sets an
-/// environment variable, so call it first thing in `main`, before any thread starts.
+/// (`NODEVICE_SELECT=1`) where there is no session and the user has not chosen (nor asked
+/// the layer for a device: `MESA_VK_DEVICE_SELECT`, `DRI_PRIME`). It sets an environment
+/// variable, so call it first thing in `main`, before any thread starts.
 pub fn quiet_headless_vulkan() {
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
-        && std::env::var_os("NODEVICE_SELECT").is_none()
+    let set = |v: &str| std::env::var_os(v).is_some();
+    if ![
+        "XDG_RUNTIME_DIR",
+        "NODEVICE_SELECT",
+        "MESA_VK_DEVICE_SELECT",
+        "DRI_PRIME",
+    ]
+    .into_iter()
+    .any(set)
     {
         std::env::set_var("NODEVICE_SELECT", "1");
     }

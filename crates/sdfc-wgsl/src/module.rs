@@ -51,9 +51,9 @@ pub fn emit(p: &Program, lib: bool) -> String {
         // Name only the globals this module declares: code that sets one it lacks would not
         // compile against it.
         s += match (uses_time, uses_params) {
-            (true, true) => "// Library form: no entry point; set `scene_time` and `scene_params` before calling.\n",
+            (true, true) => "// Library form: no entry point; set `scene_time` and `scene_params` before calling (the params start at their defaults).\n",
             (true, false) => "// Library form: no entry point; set `scene_time` before calling.\n",
-            (false, true) => "// Library form: no entry point; set `scene_params` before calling (they start at their defaults).\n",
+            (false, true) => "// Library form: no entry point; set `scene_params` before calling (the params start at their defaults).\n",
             (false, false) => "// Library form: no entry point; the functions need no setup.\n",
         };
     }

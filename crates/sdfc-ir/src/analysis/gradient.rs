@@ -374,9 +374,11 @@ fn builtin(b: Builtin, a: &[&[Comp]], width: usize) -> Vec<Comp> {
                 let (l, h) = hull(&[c.lo.powf(y), c.hi.powf(y)]);
                 let s = y.abs() * c.lo.powf(y - 1.0).max(c.hi.powf(y - 1.0));
                 smooth(c, l, h, s)
-            } else if y.fract() == 0.0 && y >= 1.0 {
-                let m = c.mag();
-                smooth(c, -m.powf(y), m.powf(y), y * m.powf(y - 1.0))
+            } else if c.lo >= 0.0 && y >= 1.0 {
+                // A base that may be negative is NaN there (`pow` is `exp2(y * log2(x))`, as
+                // on the device), so only a base that cannot be has a range.
+                let h = c.hi.powf(y);
+                smooth(c, 0.0, h, y * c.hi.powf(y - 1.0))
             } else {
                 Comp::UNKNOWN
             }

@@ -457,7 +457,7 @@ impl<'a> Lowerer<'a> {
                 let mut diag =
                     Diagnostic::error(span, format!("{what} must be a number, found {d}"))
                         .with_label("expected a number");
-                if what == "`smooth`" && matches!(other, Val::Shape(_)) {
+                if what == super::WHAT_SMOOTH && matches!(other, Val::Shape(_)) {
                     diag = diag.with_hint("`smooth` is a blend radius; to combine more shapes, make them one first: `subtract(a, union(b, c))`");
                 } else if matches!(other, Val::Num(n) if self.g.ty(n) == Ty::Bool) {
                     diag = diag.with_hint(
@@ -520,7 +520,7 @@ impl<'a> Lowerer<'a> {
                     format!("{what} must be a constant value, found {d}"),
                 )
                 .with_label("expected a number or vector");
-                if what == "a param's default" && matches!(other, Val::Shape(_)) {
+                if what == super::WHAT_PARAM_DEFAULT && matches!(other, Val::Shape(_)) {
                     diag = diag.with_hint("a param is a number or vector that a render can change; name a shape with `let`, and give it a param as its size: `param r = 1; let blob = sphere(r);`");
                 }
                 return Err(self.error(diag));
@@ -531,7 +531,7 @@ impl<'a> Lowerer<'a> {
             Some(_) => Err(self.error(
                 Diagnostic::error(e.span, format!("{what} is not finite"))
                     .with_label("evaluates to infinity or NaN")
-                    .with_hint("check for a division by zero, a root, log or `pow` of a negative number, or an overflow"),
+                    .with_hint(super::NOT_FINITE_HINT),
             )),
             None => Err(self.error(
                 Diagnostic::error(e.span, format!("{what} must be a constant"))

@@ -11,6 +11,13 @@ mod settings;
 mod shapes;
 mod warps;
 
+/// The hint of every "not finite" constant error.
+pub(crate) const NOT_FINITE_HINT: &str =
+    "check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38";
+/// What some arguments are called in messages, where a message adds a hint for them.
+pub(crate) const WHAT_SMOOTH: &str = "`smooth`";
+pub(crate) const WHAT_PARAM_DEFAULT: &str = "a param's default";
+
 use crate::graph::{Graph, NodeId};
 use crate::hash::{FxHashMap, FxHashSet};
 use crate::ops::Op;
@@ -41,6 +48,8 @@ pub fn lower(file: &File, source_len: usize) -> Lowered {
     let mut l = Lowerer::new();
     l.items(file, source_len);
     let mut diagnostics = std::mem::take(&mut l.diags);
+    // In the order of the text: unused `fn`s are checked last, and `check` prints the first.
+    diagnostics.sort_by_key(|d| d.span.start);
     let errors = diagnostics.iter().any(|d| d.is_error());
     let scene_span = l.scene.map(|(_, span)| span);
     let mut scene = if errors { None } else { l.finish() };
@@ -105,8 +114,16 @@ impl<'a> Lowerer<'a> {
         }
     }
 
+    /// Records a diagnostic, once: a `fn` lowered at two calls (or at a call and by the
+    /// unused-`fn` check) would otherwise report the same mistake at the same place twice.
     pub fn error(&mut self, d: Diagnostic) -> Reported {
-        self.diags.push(d);
+        if !self
+            .diags
+            .iter()
+            .any(|e| e.span == d.span && e.message == d.message)
+        {
+            self.diags.push(d);
+        }
         Reported
     }
 
@@ -321,7 +338,7 @@ impl<'a> Lowerer<'a> {
             .collect();
         for def in uncalled {
             if self.called.contains(&def.index) {
-                continue; // called from an unused fn checked before it
+                continue; // the same fn under another name (`let g = f;`), checked already
             }
             self.called.insert(def.index);
             let scope = Scope {
@@ -339,6 +356,9 @@ impl<'a> Lowerer<'a> {
             }
             self.call_stack.pop();
         }
+        // A `.color(...)` in such a body leaves its anonymous material in the table (shown
+        // by `--emit opt-ir`, never emitted: no live shape names it). Truncating the table
+        // would leave the dead shapes naming materials that are not there.
     }
 
     /// `v`, or `Val::Poison` with an error at `span` where it is a constant that is not
@@ -351,9 +371,7 @@ impl<'a> Lowerer<'a> {
         self.error(
             Diagnostic::error(span, "a constant expression is not finite")
                 .with_label("evaluates to infinity or NaN")
-                .with_hint(
-                    "check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38",
-                ),
+                .with_hint(NOT_FINITE_HINT),
         );
         Val::Poison
     }
@@ -390,7 +408,7 @@ impl<'a> Lowerer<'a> {
 
     fn param(&mut self, name: &'a Ident, default: &'a sdfc_syntax::ast::Expr) -> Val<'a> {
         let scope = self.global_scope();
-        let Ok(v) = self.const_value(default, &scope, "a param's default") else {
+        let Ok(v) = self.const_value(default, &scope, WHAT_PARAM_DEFAULT) else {
             return Val::Poison;
         };
         if !matches!(v.ty(), Ty::F32 | Ty::Vec2 | Ty::Vec3) {

@@ -35,7 +35,7 @@ impl<'a> Lowerer<'a> {
                 for e in shapes {
                     children.push(self.arg_shape(e, scope, name)?);
                 }
-                let smooth = self.opt_nonneg(named[0], scope, "`smooth`")?;
+                let smooth = self.opt_nonneg(named[0], scope, super::WHAT_SMOOTH)?;
                 ShapeKind::Combine {
                     op,
                     smooth,
@@ -55,7 +55,7 @@ impl<'a> Lowerer<'a> {
                     self.arg_shape(b[0].ok_or(Reported)?, scope, name)?,
                     self.arg_shape(b[1].ok_or(Reported)?, scope, name)?,
                 ];
-                let smooth = self.opt_nonneg(b[2], scope, "`smooth`")?;
+                let smooth = self.opt_nonneg(b[2], scope, super::WHAT_SMOOTH)?;
                 ShapeKind::Combine {
                     op: CombineOp::Subtract,
                     smooth,
@@ -460,7 +460,8 @@ impl<'a> Lowerer<'a> {
             args,
             span,
         )?;
-        let child = self.arg_shape(b[0].ok_or(Reported)?, scope, "material")?;
+        // The name first: in an unused `fn` whose shape is a parameter (unknown, so silent),
+        // a material defined below is still reported.
         let ne = b[1].ok_or(Reported)?;
         let ExprKind::Name(id) = &ne.kind else {
             return Err(self.error(
@@ -497,11 +498,10 @@ impl<'a> Lowerer<'a> {
         };
         // A `fn` body is lowered where the fn is called, when every material above the call
         // is known; the contract still asks for the material above its use in the text.
-        if self.material_spans[material].start > id.span.start {
-            if let Some(d) = self.defined_later(&id.name, id.span, "the material") {
-                return Err(self.error(d));
-            }
+        if let Some(d) = self.defined_later(&id.name, id.span, "the material") {
+            return Err(self.error(d));
         }
+        let child = self.arg_shape(b[0].ok_or(Reported)?, scope, "material")?;
         let kind = ShapeKind::Material {
             material: material as u32,
             child,
@@ -527,6 +527,8 @@ impl<'a> Lowerer<'a> {
             color: rgb,
             ..Material::default()
         });
+        // Kept in step with `materials`, which a duplicate `material` item indexes.
+        self.material_spans.push(Span::default());
         self.materials.len() as u32 - 1
     }
 
@@ -608,12 +610,12 @@ impl<'a> Lowerer<'a> {
             Some(v) if !v.all_finite() => Err(self.error(
                 Diagnostic::error(span, format!("{what} is not finite"))
                     .with_label("evaluates to infinity or NaN")
-                    .with_hint("check for a division by zero, a root, log or `pow` of a negative number, or an overflow past 3.4e38"),
+                    .with_hint(super::NOT_FINITE_HINT),
             )),
             Some(v) if v.comps().iter().any(|x| x.abs() > max) => Err(self.error(
-                Diagnostic::error(span, format!("{what} is beyond {max:e} in magnitude"))
+                Diagnostic::error(span, format!("{what} must be at most {max:e} in magnitude"))
                     .with_label("too large")
-                    .with_hint("the shader computes in f32, whose neighbouring values are 65 536 apart at 1e12; model the scene in larger units"),
+                    .with_hint("the shader computes in f32, about 7 significant digits: at 1e12 neighbouring values are 65 536 apart, and products of such values overflow"),
             )),
             _ => Ok(n),
         }

@@ -442,41 +442,42 @@ impl<'a> Lowerer<'a> {
 
     /// Checks the node budget after inlining; reports once.
     pub fn check_size(&mut self, span: Span) -> R<()> {
-        if self.g.len() > limits::MAX_NODES || self.shapes.len() > limits::MAX_NODES {
-            if !self.too_big {
-                self.too_big = true;
-                self.error(
-                    Diagnostic::error(
-                        span,
-                        format!("the scene grows past {} nodes once every `fn` is inlined", limits::MAX_NODES),
-                    )
-                    .with_label("while expanding this")
-                    .with_hint("a `fn` or `let` that doubles its input on every level grows exponentially; share values with `let` instead"),
-                );
-            }
-            return Err(Reported);
+        if self.g.len() <= limits::MAX_NODES && self.shapes.len() <= limits::MAX_NODES {
+            return Ok(());
         }
-        Ok(())
+        self.too_big_once(|| {
+            Diagnostic::error(
+                span,
+                format!("the scene grows past {} nodes once every `fn` is inlined", limits::MAX_NODES),
+            )
+            .with_label("while expanding this")
+            .with_hint("a `fn` or `let` that doubles its input on every level grows exponentially; share values with `let` instead")
+        })
     }
 
     /// Counts one more `fn` call inlined; past the budget, reports once.
     pub fn count_inlined_call(&mut self, span: Span) -> R<()> {
         self.inlined_calls += 1;
-        if self.inlined_calls > limits::MAX_INLINED_CALLS {
-            if !self.too_big {
-                self.too_big = true;
-                self.error(
-                    Diagnostic::error(
-                        span,
-                        format!("more than {} `fn` calls once every `fn` is inlined", limits::MAX_INLINED_CALLS),
-                    )
-                    .with_label("while expanding this call")
-                    .with_hint("a `fn` that calls another twice doubles the work on every level; compute the value once with `let` and use the name twice"),
-                );
-            }
-            return Err(Reported);
+        if self.inlined_calls <= limits::MAX_INLINED_CALLS {
+            return Ok(());
         }
-        Ok(())
+        self.too_big_once(|| {
+            Diagnostic::error(
+                span,
+                format!("more than {} `fn` calls once every `fn` is inlined", limits::MAX_INLINED_CALLS),
+            )
+            .with_label("while expanding this call")
+            .with_hint("a `fn` that calls another twice doubles the work on every level; compute the value once with `let` and use the name twice")
+        })
+    }
+
+    /// A growth limit passed: the first such diagnostic is reported and lowering stops.
+    fn too_big_once(&mut self, diagnostic: impl FnOnce() -> Diagnostic) -> R<()> {
+        if !self.too_big {
+            self.too_big = true;
+            self.error(diagnostic());
+        }
+        Err(Reported)
     }
 
     pub fn fresh_lambda(&mut self) -> u32 {

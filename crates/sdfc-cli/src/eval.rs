@@ -90,9 +90,10 @@ fn parse_points(text: &str, path: &str) -> Result<Vec<[f64; 3]>, Outcome> {
             continue;
         }
         let mut p = Vec::with_capacity(3);
-        let mut bad = None;
+        let (mut bad, mut fields) = (None, 0);
         let mut col = raw.len() - raw.trim_start().len() + 1;
         for field in line.split(',') {
+            fields += 1;
             match field.trim().parse::<f64>() {
                 Ok(v) => p.push(v),
                 Err(_) if bad.is_none() => {
@@ -102,7 +103,6 @@ fn parse_points(text: &str, path: &str) -> Result<Vec<[f64; 3]>, Outcome> {
             }
             col += field.chars().count() + 1;
         }
-        let fields = line.split(',').count();
         if bad.is_some() || fields != 3 {
             let (col, what) = match bad {
                 Some(c) => (c, "a number"),

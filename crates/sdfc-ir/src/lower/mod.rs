@@ -69,7 +69,7 @@ pub(crate) struct Lowerer<'a> {
     globals: Vec<(&'a str, Val<'a>, Span)>,
     global_index: FxHashMap<&'a str, usize>,
     pub materials: Vec<Material>,
-    pub material_spans: Vec<Span>,
+    material_spans: Vec<Span>,
     pub params: Vec<ParamDecl>,
     lights: Vec<crate::scene::Light>,
     camera: Option<(Camera, Span)>,
@@ -83,7 +83,10 @@ pub(crate) struct Lowerer<'a> {
     /// `fn` calls inlined so far (bounded by `limits::MAX_INLINED_CALLS`).
     inlined_calls: u64,
     /// The `fn`s (by global index) lowered at least once, called or checked.
-    pub called: FxHashSet<usize>,
+    called: FxHashSet<usize>,
+    /// Each error's place and message, so that a mistake in a `fn` lowered more than once is
+    /// reported once (a set: a file of many mistakes must not make this quadratic).
+    reported: FxHashSet<(Span, String)>,
     /// Where each `let`, `fn`, `param` and `material` of the file is defined, to explain a
     /// use above its definition.
     pub definitions: FxHashMap<&'a str, Span>,
@@ -110,6 +113,7 @@ impl<'a> Lowerer<'a> {
             too_big: false,
             inlined_calls: 0,
             called: FxHashSet::default(),
+            reported: FxHashSet::default(),
             definitions: FxHashMap::default(),
         }
     }
@@ -117,11 +121,7 @@ impl<'a> Lowerer<'a> {
     /// Records a diagnostic, once: a `fn` lowered at two calls (or at a call and by the
     /// unused-`fn` check) would otherwise report the same mistake at the same place twice.
     pub fn error(&mut self, d: Diagnostic) -> Reported {
-        if !self
-            .diags
-            .iter()
-            .any(|e| e.span == d.span && e.message == d.message)
-        {
+        if self.reported.insert((d.span, d.message.clone())) {
             self.diags.push(d);
         }
         Reported

@@ -31,5 +31,6 @@ fuzz_target!(|data: &[u8]| {
         Err(Failure::Internal { report, wgsl }) => {
             panic!("internal error: {report}\n{wgsl}");
         }
+        Err(f @ Failure::Usage(_)) => panic!("the default options refused: {f}"),
     }
 });

@@ -144,7 +144,7 @@ fn emitted(what: &str, r: Result<String, Failure>) -> String {
     match r {
         Ok(w) => w,
         Err(Failure::Internal { report, .. }) => panic!("{what}: naga rejected it:\n{report}"),
-        Err(Failure::Diagnostics(d)) => panic!("{what}: {d:?}"),
+        Err(f) => panic!("{what}: {f}"),
     }
 }
 

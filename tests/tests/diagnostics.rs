@@ -43,9 +43,7 @@ fn diagnostics_of(name: &str, source: &str, opts: &Options) -> Vec<Diagnostic> {
             c.warnings
         ),
         Err(Failure::Diagnostics(d)) => d,
-        Err(Failure::Internal { report, .. }) => {
-            panic!("{name}: internal compiler error instead of a diagnostic:\n{report}")
-        }
+        Err(f) => panic!("{name}: {f} (instead of a diagnostic)"),
     }
 }
 

@@ -39,6 +39,7 @@ fn compile(name: &str, source: &str, opts: &Options) -> Compiled {
         Err(Failure::Internal { report, wgsl }) => {
             panic!("{name}: internal compiler error:\n{report}\n--- WGSL ---\n{wgsl}")
         }
+        Err(f) => panic!("{name}: {f}"),
     }
 }
 
@@ -195,20 +196,20 @@ fn library_form_with_import_path() {
     }
 }
 
+/// An import path only means something in the library form; without `lib` it used to be
+/// ignored silently, and is now the caller's mistake (as `sdfc compile` has always said).
 #[test]
-fn import_path_is_ignored_without_lib() {
+fn import_path_without_lib_is_refused() {
     let scene = &scenes()[0];
     let opts = Options {
         lib: false,
         import_path: Some("my::scene".into()),
         cull: false,
     };
-    let c = compile(&scene.stem, &scene.source, &opts);
-    assert!(!c.wgsl.contains("#define_import_path"));
-    assert_eq!(
-        c.wgsl,
-        compile(&scene.stem, &scene.source, &Options::default()).wgsl
-    );
+    match sdfc_wgsl::compile(&scene.source, &opts) {
+        Err(Failure::Usage(m)) => assert!(m.contains("library form"), "{m}"),
+        other => panic!("{:?}", other.map(|c| c.wgsl.len())),
+    }
 }
 
 #[test]

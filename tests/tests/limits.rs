@@ -21,7 +21,7 @@ fn compiled(name: &str, src: &str) -> Compiled {
     match compile(src, &Options::default()) {
         Ok(c) => c,
         Err(Failure::Diagnostics(d)) => panic!("{name}: {:?}", d[0].message),
-        Err(Failure::Internal { report, .. }) => panic!("{name}: internal error {report}"),
+        Err(f) => panic!("{name}: {f}"),
     }
 }
 
@@ -37,7 +37,7 @@ fn refused(name: &str, src: &str) -> String {
             );
             e.message.clone()
         }
-        Err(Failure::Internal { report, .. }) => panic!("{name}: internal error {report}"),
+        Err(f) => panic!("{name}: {f}"),
     }
 }
 

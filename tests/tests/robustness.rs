@@ -139,9 +139,9 @@ fn check(source: &str) -> Result<(), TestCaseError> {
             // Rendering never panics either.
             let _ = sdfc_syntax::diag::render("mangled.sdf", source, &diags);
         }
-        Err(Failure::Internal { report, .. }) => {
+        Err(f) => {
             return Err(TestCaseError::fail(format!(
-                "internal compiler error:\n{report}\n--- source ---\n{source}"
+                "{f}\n--- source ---\n{source}"
             )));
         }
     }
@@ -181,9 +181,7 @@ fn fuzzer_findings_stay_fixed() {
             std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         match sdfc_wgsl::compile(&source, &Options::default()) {
             Ok(_) | Err(Failure::Diagnostics(_)) => {}
-            Err(Failure::Internal { report, .. }) => {
-                panic!("{}: internal error\n{report}", path.display())
-            }
+            Err(f) => panic!("{}: {f}", path.display()),
         }
     }
 }

@@ -43,21 +43,9 @@ enum Emit {
     OptIr,
 }
 
-/// A naga_oil module path: identifiers joined by `::` (`my_scene`, `scenes::city`). Anything
-/// else would make the first line of a validated module something naga_oil cannot read.
+/// The library's check of an import path, as a clap value parser.
 fn import_path(s: &str) -> Result<String, String> {
-    let ident = |w: &str| {
-        let mut c = w.chars();
-        c.next()
-            .is_some_and(|f| f.is_ascii_alphabetic() || f == '_')
-            && c.all(|c| c.is_ascii_alphanumeric() || c == '_')
-            && w != "_"
-    };
-    if s.split("::").all(ident) {
-        Ok(s.to_string())
-    } else {
-        Err("expected identifiers joined by `::`, e.g. `my_scene` or `scenes::city`".into())
-    }
+    sdfc_wgsl::check_import_path(s).map(|()| s.to_string())
 }
 
 pub fn run(a: Args) -> Outcome {

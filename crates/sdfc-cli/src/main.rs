@@ -55,8 +55,9 @@ pub enum Outcome {
 }
 
 fn main() -> ExitCode {
-    // Before any thread starts: it may set an environment variable.
-    sdfc_render::quiet_headless_vulkan();
+    // SAFETY: the first statement of `main`, before any thread starts, so no other thread
+    // can read or write the environment while it may set a variable.
+    unsafe { sdfc_render::quiet_headless_vulkan() };
     // A bug must never show a Rust backtrace to a user: report it in one line instead.
     std::panic::set_hook(Box::new(|info| {
         say!("sdfc: internal error: {info}");

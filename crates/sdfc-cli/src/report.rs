@@ -31,6 +31,10 @@ pub fn failure(path: &str, source: &str, f: &Failure) -> crate::Outcome {
             }
             crate::Outcome::EnvError
         }
+        Failure::Usage(message) => {
+            say!("sdfc: {message}");
+            crate::Outcome::EnvError
+        }
     }
 }
 
@@ -46,5 +50,6 @@ pub fn first_error(source: &str, f: &Failure) -> String {
             })
             .unwrap_or_else(|| ": error".into()),
         Failure::Internal { .. } => ": internal compiler error (invalid WGSL emitted)".into(),
+        Failure::Usage(message) => format!(": {message}"),
     }
 }

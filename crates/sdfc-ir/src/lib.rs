@@ -75,9 +75,11 @@ pub struct Relative {
 }
 
 /// The IR at each stage, for golden tests and `--emit`.
+#[derive(Clone, Debug)]
 pub struct Stages {
     /// As lowered, before any pass.
     pub lowered: Scene,
+    /// After the passes: what the back ends emit.
     pub program: Program,
 }
 

@@ -21,16 +21,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let source = args.next().unwrap_or_else(|| BLOB.into());
     let compiled = match sdfc_wgsl::compile(&source, &sdfc_wgsl::Options::default()) {
         Ok(c) => c,
-        Err(sdfc_wgsl::Failure::Diagnostics(d)) => {
-            eprint!(
-                "{}",
-                sdfc_syntax::diag::render_with("<string>", &source, &d, false)
-            );
+        Err(f @ sdfc_wgsl::Failure::Diagnostics(_)) => {
+            // The scene's mistakes, each with its line and the source under it.
+            eprint!("{}", f.render("<string>", &source));
             std::process::exit(1);
         }
-        Err(sdfc_wgsl::Failure::Internal { report, .. }) => {
-            return Err(format!("internal compiler error: {report}").into())
-        }
+        Err(f) => return Err(f.into()),
     };
     let renderer = Renderer::new()?;
     eprintln!("rendering on {}", renderer.adapter_description());

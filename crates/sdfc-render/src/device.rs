@@ -75,11 +75,16 @@ pub struct Shared {
 /// learn the desktop's GPU; on a machine without a session (no `XDG_RUNTIME_DIR`: CI, SSH,
 /// containers) libwayland then prints "error: XDG_RUNTIME_DIR is invalid or not set in the
 /// environment." twice on every run, which reads as the program's own error. The renderer
-/// ranks the adapters itself ([`rank`]), so the layer adds nothing: this switches it off
-/// (`NODEVICE_SELECT=1`) where there is no session and the user has not chosen (nor asked
-/// the layer for a device: `MESA_VK_DEVICE_SELECT`, `DRI_PRIME`). It sets an environment
-/// variable, so call it first thing in `main`, before any thread starts.
-pub fn quiet_headless_vulkan() {
+/// ranks the adapters itself (see the crate's "The device"), so the layer adds nothing: this
+/// switches it off (`NODEVICE_SELECT=1`) where there is no session and the user has not
+/// chosen (nor asked the layer for a device: `MESA_VK_DEVICE_SELECT`, `DRI_PRIME`).
+///
+/// # Safety
+///
+/// It sets an environment variable, which is undefined behaviour on most platforms while
+/// another thread may read or write the environment (`std::env::set_var`). Call it first
+/// thing in `main`, before any thread starts.
+pub unsafe fn quiet_headless_vulkan() {
     let set = |v: &str| std::env::var_os(v).is_some();
     if ![
         "XDG_RUNTIME_DIR",
@@ -322,7 +327,12 @@ impl Renderer {
                 let dropping = sink.dropping.load(Ordering::Relaxed);
                 if reason != wgpu::DeviceLostReason::Destroyed || !dropping {
                     if let Ok(mut l) = sink.lost.lock() {
-                        *l = Some(format!("{reason:?}: {message}"));
+                        // wgpu's message may be empty (a destroyed device): no dangling colon.
+                        *l = Some(if message.trim().is_empty() {
+                            format!("{reason:?}")
+                        } else {
+                            format!("{reason:?}: {message}")
+                        });
                     }
                 }
             });
@@ -387,6 +397,14 @@ impl Renderer {
     /// The adapter in use: name, backend, device type, driver.
     pub fn adapter_description(&self) -> &AdapterDescription {
         &self.description
+    }
+
+    /// Frees the compiled pipelines of the scenes rendered so far (a live editor that has
+    /// moved on from old versions calls it); the interpreter's stays. The cache keeps every
+    /// pipeline until then, so that re-rendering a scene or changing a param never
+    /// recompiles. Rendering a forgotten scene again compiles it again.
+    pub fn forget_scene_pipelines(&self) {
+        self.pipelines.forget_scenes();
     }
 
     /// How many compute pipelines this renderer has compiled (cache misses).

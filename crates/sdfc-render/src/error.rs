@@ -25,21 +25,31 @@ pub enum RenderError {
     /// not finite): a problem in the user's input.
     Param(String),
     /// An output file could not be written.
-    Output { path: PathBuf, message: String },
+    Output {
+        /// The file.
+        path: PathBuf,
+        /// Why (the operating system's or the encoder's words).
+        message: String,
+    },
     /// An AOV was asked of a frame rendered without them.
     NoAovs,
+    /// The scene was compiled in the library form (`sdfc_wgsl::Options::lib`): scene
+    /// functions without an entry point, for the caller's own shaders. Compile it without
+    /// `lib` to render it.
+    LibraryForm,
     /// The interpreted marcher cannot run the scene: beyond its limits (an input error,
     /// like a setting above its documented limit) or an operation it has no opcode for.
     Interpreter(sdfc_wgsl::interp::encode::EncodeError),
 }
 
 impl RenderError {
-    /// True where the user's input is at fault (params), false for environment problems
-    /// (device, files) and bugs.
+    /// True where the user's input is at fault (params, a library-form scene), false for
+    /// environment problems (device, image sizes, files) and bugs.
     pub fn is_input_error(&self) -> bool {
         matches!(
             self,
             RenderError::Param(_)
+                | RenderError::LibraryForm
                 | RenderError::Interpreter(sdfc_wgsl::interp::encode::EncodeError::TooLarge(_))
         )
     }
@@ -66,6 +76,10 @@ impl fmt::Display for RenderError {
                 write!(f, "cannot write {}: {message}", path.display())
             }
             RenderError::NoAovs => f.write_str("the frame was rendered without AOVs"),
+            RenderError::LibraryForm => f.write_str(
+                "the scene was compiled as a library (`lib`), which has no entry point to \
+                 render; compile it without `lib`",
+            ),
             RenderError::Interpreter(e) => write!(f, "{e}"),
         }
     }

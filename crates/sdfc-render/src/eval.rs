@@ -27,10 +27,8 @@ impl Renderer {
         self.check_health()?;
         let wgsl = sdfc_wgsl::eval_shader::eval_shader(program).map_err(|f| match f {
             sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
-            sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
-                "{} diagnostic(s) while emitting the evaluation shader",
-                d.len()
-            )),
+            // Neither happens here: the program was lowered, the options are fixed.
+            f => RenderError::Emit(format!("while emitting the evaluation shader: {f}")),
         })?;
         let pipeline = self.pipeline(Kind::Eval, &wgsl)?;
         let max_groups = (self.limits.max_compute_workgroups_per_dimension as u64).min(65_535);

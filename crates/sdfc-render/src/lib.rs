@@ -4,14 +4,23 @@
 //! ```no_run
 //! use sdfc_render::{Renderer, RenderOptions};
 //!
-//! let compiled = sdfc_wgsl::compile("scene = sphere(1);", &Default::default())
-//!     .map_err(|_| "the scene does not compile")?;
+//! // A mistake in the scene is an error whose `Display` gives each line and column;
+//! // `Failure::render` adds the source lines.
+//! let compiled = sdfc_render::sdfc_wgsl::compile("scene = sphere(1);", &Default::default())?;
 //! let renderer = Renderer::new()?;
 //! eprintln!("rendering on {}", renderer.adapter_description());
 //! let frame = renderer.render(&compiled, &RenderOptions::sized(64, 48))?;
 //! sdfc_render::output::write_png("sphere.png", &frame)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! `sdfc_wgsl` (the compiler) is re-exported, so this crate is the one dependency an
+//! embedder needs.
+//!
+//! Every call blocks the calling thread until the device has done its work and the results
+//! are back ([`Renderer::new`], the renders, [`Renderer::eval_gpu`]); on an async runtime, call
+//! them from a blocking task. A [`Renderer`] is a cheap clone of one shared device and may be
+//! used from several threads at once.
 //!
 //! # The device
 //!
@@ -62,6 +71,8 @@
 //! [`output`] writes PNG (colour), OpenEXR (32-bit float, ZIP compression: lossless) and NumPy
 //! `.npy` (little-endian `f4`, shape `(H, W)` for depth and steps, `(H, W, 3)` for normals).
 
+#![warn(missing_docs)]
+
 mod device;
 mod error;
 mod eval;
@@ -76,6 +87,8 @@ pub use device::{quiet_headless_vulkan, AdapterDescription, Renderer};
 pub use error::RenderError;
 pub use live::{Drawn, LiveOptions, LiveReport};
 pub use output::AovKind;
+/// The compiler, so that this crate is the one dependency an embedder needs.
+pub use sdfc_wgsl;
 
 use std::time::Duration;
 
@@ -122,7 +135,9 @@ impl Default for RenderOptions {
 /// A rendered image.
 #[derive(Clone, Debug)]
 pub struct Frame {
+    /// Pixels across.
     pub width: u32,
+    /// Pixels down.
     pub height: u32,
     /// RGBA8, gamma applied, row-major with the top row first, `4 * width * height` bytes.
     pub rgba: Vec<u8>,
@@ -136,15 +151,21 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The RGBA value of pixel column `x`, row `y` (row 0 at the top).
-    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+    /// The RGBA value of pixel column `x`, row `y` (row 0 at the top); `None` outside the
+    /// image (or where `rgba` is shorter than the size says).
+    pub fn pixel(&self, x: u32, y: u32) -> Option<[u8; 4]> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
         let i = 4 * (y as usize * self.width as usize + x as usize);
-        [
-            self.rgba[i],
-            self.rgba[i + 1],
-            self.rgba[i + 2],
-            self.rgba[i + 3],
-        ]
+        self.rgba.get(i..i + 4)?.try_into().ok()
+    }
+
+    /// `4 * width * height`, the length `rgba` should have; `None` if it overflows.
+    pub(crate) fn byte_len(&self) -> Option<usize> {
+        (self.width as usize)
+            .checked_mul(self.height as usize)?
+            .checked_mul(4)
     }
 }
 

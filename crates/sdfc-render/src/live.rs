@@ -293,10 +293,8 @@ impl Renderer {
                 "the WGSL emitted for the scene is invalid (a bug in sdfc):\n{report}\n\
                  --- emitted WGSL ---\n{wgsl}"
             )),
-            sdfc_wgsl::Failure::Diagnostics(d) => RenderError::Emit(format!(
-                "{} diagnostic(s) while emitting the scene",
-                d.len()
-            )),
+            // Neither happens here: the program was lowered, the options are fixed.
+            f => RenderError::Emit(format!("while emitting the scene: {f}")),
         })?;
         if abandoned.load(Ordering::Relaxed) {
             return Ok(wgsl);
@@ -316,7 +314,8 @@ impl Renderer {
         if self.adapter_description().software && !self.interpreter_is_warm() {
             return Err(
                 "on a CPU device the interpreter draws previews only once it is warm \
-                        (`sdfc render --live --watch` warms it after its first frame)"
+                 (`Renderer::warm_interpreter`; `sdfc render --live --watch` warms it after \
+                 its first frame)"
                     .into(),
             );
         }
@@ -416,7 +415,7 @@ mod tests {
         assert_eq!((big.width, big.height), (5, 4));
         let reds: Vec<u8> = (0..4)
             .flat_map(|y| (0..5).map(move |x| (x, y)))
-            .map(|(x, y)| big.pixel(x, y)[0])
+            .map(|(x, y)| big.pixel(x, y).unwrap()[0])
             .collect();
         assert_eq!(
             reds,

@@ -57,7 +57,9 @@ impl AovKind {
 /// The float file formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FloatFormat {
+    /// OpenEXR, 32-bit float channels, ZIP-compressed.
     Exr,
+    /// NumPy's `.npy`, little-endian `f32`, shape `(height, width)` or `(height, width, 3)`.
     Npy,
 }
 
@@ -80,9 +82,16 @@ fn output_error(path: &Path, message: impl ToString) -> RenderError {
     }
 }
 
-/// Writes the frame's colour as an RGBA PNG.
+/// Writes the frame's colour as an RGBA PNG. A frame whose `rgba` does not hold
+/// `4 * width * height` bytes (its fields are public) is refused, not written.
 pub fn write_png(path: impl AsRef<Path>, frame: &Frame) -> Result<(), RenderError> {
     let path = path.as_ref();
+    if Some(frame.rgba.len()) != frame.byte_len() {
+        return Err(output_error(
+            path,
+            "the frame's RGBA bytes do not match its width and height",
+        ));
+    }
     image::save_buffer_with_format(
         path,
         &frame.rgba,

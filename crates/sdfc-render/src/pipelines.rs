@@ -34,8 +34,9 @@ struct Slot {
     built: Mutex<Option<Arc<CachedPipeline>>>,
 }
 
-/// The compiled pipelines of one device, by shader text. Nothing is evicted: a long
-/// live-editing session keeps one pipeline per version of the scene it rendered.
+/// The compiled pipelines of one device, by shader text. Nothing is evicted unless asked
+/// ([`Pipelines::forget_scenes`]): a long live-editing session keeps one pipeline per version
+/// of the scene it rendered.
 pub(crate) struct Pipelines {
     device: wgpu::Device,
     sink: Arc<ErrorSink>,
@@ -63,6 +64,16 @@ impl Pipelines {
     /// How many pipelines have been compiled (cache misses).
     pub(crate) fn compilations(&self) -> usize {
         self.compilations.load(Ordering::Relaxed)
+    }
+
+    /// Drops the cached pipelines of scenes (rendering and evaluation), keeping the
+    /// interpreter's, which every scene shares. A build under way finishes for its asker.
+    pub(crate) fn forget_scenes(&self) {
+        let mut cache = self.slots.lock().unwrap_or_else(|e| e.into_inner());
+        cache.retain(|_, slots| {
+            slots.retain(|s| s.kind == Kind::Interpreted);
+            !slots.is_empty()
+        });
     }
 
     /// The compute pipeline of `wgsl`, compiled on first use and cached by the text's hash.

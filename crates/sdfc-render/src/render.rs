@@ -111,8 +111,12 @@ impl Timer {
 }
 
 impl Renderer {
-    /// Renders a compiled scene.
+    /// Renders a compiled scene (the whole shader: not the library form). Blocks until the
+    /// pixels are back on the CPU.
     pub fn render(&self, scene: &Compiled, opts: &RenderOptions) -> Result<Frame, RenderError> {
+        if scene.is_library() {
+            return Err(RenderError::LibraryForm);
+        }
         self.render_wgsl(scene.program(), &scene.wgsl, opts)
     }
 

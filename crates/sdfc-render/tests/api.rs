@@ -433,3 +433,68 @@ fn threads_share_one_renderer() {
         }
     });
 }
+
+#[test]
+fn frame_pixels_outside_the_image_are_none() {
+    let f = synthetic_frame();
+    assert_eq!(f.pixel(0, 0), Some([200; 4]));
+    assert_eq!(f.pixel(4, 2), Some([200; 4]));
+    // Column 5 of a 5-wide frame used to read row 1's first pixel; row 3 used to panic.
+    assert_eq!(f.pixel(5, 0), None);
+    assert_eq!(f.pixel(0, 3), None);
+    assert_eq!(f.pixel(u32::MAX, u32::MAX), None);
+    let mut short = synthetic_frame();
+    short.rgba.truncate(8);
+    assert_eq!(short.pixel(2, 0), None);
+}
+
+#[test]
+fn a_frame_whose_fields_disagree_is_not_written() {
+    let mut f = synthetic_frame();
+    f.width = 10;
+    let path = temp("mismatch.png");
+    let e = output::write_png(&path, &f).unwrap_err();
+    assert!(
+        matches!(&e, RenderError::Output { message, .. } if message.contains("do not match")),
+        "{e}"
+    );
+    assert!(!path.exists());
+    // The frame as rendered is written.
+    output::write_png(&path, &synthetic_frame()).unwrap();
+    assert!(std::fs::metadata(&path).unwrap().len() > 0);
+}
+
+#[test]
+fn the_library_form_is_refused_before_any_work() {
+    let Some(r) = renderer() else { return };
+    let lib = sdfc_render::sdfc_wgsl::compile(
+        "scene = sphere(1);",
+        &sdfc_render::sdfc_wgsl::Options {
+            lib: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(lib.is_library());
+    let before = r.pipeline_compilations();
+    let e = r.render(&lib, &RenderOptions::sized(8, 8)).unwrap_err();
+    assert_eq!(e, RenderError::LibraryForm);
+    assert!(e.is_input_error());
+    assert!(e.to_string().contains("without `lib`"), "{e}");
+    assert_eq!(r.pipeline_compilations(), before);
+}
+
+#[test]
+fn forgotten_scene_pipelines_are_built_again() {
+    if renderer().is_none() {
+        return;
+    }
+    let r = Renderer::new().unwrap();
+    let a = compile("forget", "scene = sphere(1);");
+    r.render(&a, &RenderOptions::sized(8, 8)).unwrap();
+    r.render(&a, &RenderOptions::sized(8, 8)).unwrap();
+    assert_eq!(r.pipeline_compilations(), 1);
+    r.forget_scene_pipelines();
+    r.render(&a, &RenderOptions::sized(8, 8)).unwrap();
+    assert_eq!(r.pipeline_compilations(), 2);
+}

@@ -24,6 +24,10 @@ pub struct Diagnostic {
     pub secondary: Vec<(Span, String)>,
     /// How to fix it, where we know.
     pub hint: Option<String>,
+    /// The 1-based line and column (in characters) of the span's start, once placed in its
+    /// source ([`Diagnostic::placed`]): every diagnostic `sdfc_wgsl`'s entry points return is
+    /// placed, so that its `Display` can say where it is without the source.
+    pub place: Option<(u32, u32)>,
 }
 
 impl Diagnostic {
@@ -35,6 +39,7 @@ impl Diagnostic {
             label: String::new(),
             secondary: Vec::new(),
             hint: None,
+            place: None,
         }
     }
 
@@ -67,6 +72,34 @@ impl Diagnostic {
     /// 1-based line and column (in characters) of the start of the span.
     pub fn line_col(&self, source: &str) -> (usize, usize) {
         line_col(source, self.span.start as usize)
+    }
+
+    /// The diagnostic with its [`place`](Diagnostic::place) in `source` filled in.
+    pub fn placed(mut self, source: &str) -> Diagnostic {
+        let (line, col) = self.line_col(source);
+        // Sources are far below 4 GiB (the compiler's size limit); saturate all the same.
+        let narrow = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        self.place = Some((narrow(line), narrow(col)));
+        self
+    }
+}
+
+/// One line: where (once placed), what, and the hint: `3:14: error: unknown name `sphre`;
+/// hint: did you mean `sphere`?`. The source line with carets needs the source: [`render`].
+impl std::fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some((line, col)) = self.place {
+            write!(f, "{line}:{col}: ")?;
+        }
+        let severity = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        write!(f, "{severity}: {}", self.message)?;
+        if let Some(hint) = &self.hint {
+            write!(f, "; hint: {hint}")?;
+        }
+        Ok(())
     }
 }
 

@@ -40,58 +40,112 @@ pub mod literal;
 pub mod marcher;
 pub mod material_index;
 pub mod module;
+mod options;
 pub mod parts;
 pub mod validate;
 
-use sdfc_ir::{Program, Stages};
-use sdfc_syntax::diag::Diagnostic;
-
-/// What to emit.
-#[derive(Clone, Debug, Default)]
-pub struct Options {
-    /// Only the scene functions, no entry point (`sdfc compile --lib`).
-    pub lib: bool,
-    /// A naga_oil `#define_import_path` for the library form.
-    pub import_path: Option<String>,
-    /// Bounding-box early-outs in large unions (`sdfc compile --cull`); the distances are the
-    /// same near the surface, and a lower bound far from every part of the union. Off by
-    /// default until it is measured to win on a device (docs/performance.md).
-    pub cull: bool,
-}
+pub use options::{check_import_path, Options};
+/// The IR a compiled scene carries ([`Compiled::program`]), which the renderer's interpreted
+/// marcher and point evaluation take.
+pub use sdfc_ir::{Program, Stages};
+/// Diagnostics: [`Diagnostic`]'s `Display` is one line; `diag::render` adds the source line.
+pub use sdfc_syntax::diag::{self, Diagnostic};
 
 /// A compiled scene: the validated WGSL, the IR stages, and any warnings.
+#[derive(Clone, Debug)]
 pub struct Compiled {
+    /// The WGSL, validated by naga: a whole compute shader, or with [`Options::lib`] the
+    /// library form (see the crate's documentation for both interfaces).
     pub wgsl: String,
+    /// The scene as the compiler's stages left it: the IR before and after optimisation, and
+    /// the [`Program`] (scene settings, params, functions) the WGSL was emitted from.
     pub stages: Stages,
+    /// Warnings about the scene (placed: their `Display` says line and column).
     pub warnings: Vec<Diagnostic>,
+    /// Whether `wgsl` is the library form, which has no entry point to render.
+    library: bool,
 }
 
 impl Compiled {
+    /// The optimised program the WGSL was emitted from.
     pub fn program(&self) -> &Program {
         &self.stages.program
+    }
+
+    /// Whether the WGSL is the library form ([`Options::lib`]): scene functions without an
+    /// entry point, for the caller's own shaders; it cannot be rendered.
+    pub fn is_library(&self) -> bool {
+        self.library
     }
 }
 
 /// Why compilation failed.
 #[derive(Debug)]
 pub enum Failure {
-    /// Mistakes in the scene (with any warnings), to show the user.
+    /// Mistakes in the scene (with any warnings), to show the user. Each is placed (line and
+    /// column); [`Failure::render`] shows them with their source lines.
     Diagnostics(Vec<Diagnostic>),
-    /// The emitted WGSL failed validation: a bug in sdfc, never the user's.
-    Internal { report: String, wgsl: String },
+    /// The emitted WGSL failed validation: a bug in sdfc, never the user's. `report` is
+    /// naga's; `wgsl` the text it rejected (empty where none was emitted).
+    Internal {
+        /// naga's report (or what else went wrong inside the compiler).
+        report: String,
+        /// The rejected WGSL, for a bug report; empty where none was emitted.
+        wgsl: String,
+    },
+    /// The [`Options`] do not make sense ([`Options::check`]): the caller's mistake, not
+    /// the scene's.
+    Usage(String),
 }
+
+impl Failure {
+    /// The failure as a user should see it: each diagnostic with `file_name:line:column`,
+    /// its source line and carets, and its hint (without colour); otherwise as `Display`.
+    pub fn render(&self, file_name: &str, source: &str) -> String {
+        match self {
+            Failure::Diagnostics(d) => diag::render(file_name, source, d),
+            _ => format!("{self}\n"),
+        }
+    }
+}
+
+/// The errors, one per line (`3:14: error: ...; hint: ...`), then the warnings.
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Diagnostics(d) => {
+                let (errors, warnings): (Vec<_>, Vec<_>) = d.iter().partition(|d| d.is_error());
+                let lines: Vec<String> = errors
+                    .iter()
+                    .chain(&warnings)
+                    .map(|d| d.to_string())
+                    .collect();
+                f.write_str(&lines.join("\n"))
+            }
+            Failure::Internal { report, .. } => write!(
+                f,
+                "internal compiler error (a bug in sdfc, not in the scene): the emitted WGSL is invalid: {report}"
+            ),
+            Failure::Usage(message) => f.write_str(message),
+        }
+    }
+}
+
+impl std::error::Error for Failure {}
 
 /// The stack the compiler runs on: deep but bounded inputs (limited by the parser) then
 /// never come near the stack's end, whatever thread the caller uses.
 const STACK_BYTES: usize = 256 << 20;
 
 /// Parses, lowers, optimises, emits and validates a scene. Never panics on any input.
+/// Blocks until done (the 5 000-shape test scene takes some 200 ms on a small machine).
 pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
     on_compiler_stack(|| compile_here(source, opts))
 }
 
 /// As [`compile`], on the calling thread's stack.
 pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
+    opts.check().map_err(Failure::Usage)?;
     let Lowered {
         stages, warnings, ..
     } = lower_here(source, opts)?;
@@ -100,13 +154,16 @@ pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
         wgsl,
         stages,
         warnings,
+        library: opts.lib,
     })
 }
 
 /// A scene parsed, lowered and optimised, not yet emitted: what the interpreted marcher
 /// needs (`interp::encode`), and what [`emit_validated`] turns into WGSL.
 pub struct Lowered {
+    /// The IR stages, as in [`Compiled::stages`].
     pub stages: Stages,
+    /// Warnings about the scene, placed.
     pub warnings: Vec<Diagnostic>,
     /// From [`lower_live`]: the scene lowered with culling for the interpreted preview, where
     /// that differs from `stages.program` (a union large enough to cull, and `cull` not
@@ -126,21 +183,21 @@ pub fn lower(source: &str, opts: &Options) -> Result<Lowered, Failure> {
 /// preview waits for both; the 5 000-shape union's two take about as long as one).
 pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
     on_compiler_stack(|| {
-        let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
+        let file = parse(source)?;
         if opts.cull {
-            return lower_parsed(&file, source.len(), opts);
+            return lower_parsed(&file, source, opts);
         }
         let culling = Options {
             cull: true,
             ..opts.clone()
         };
         let (culled, plain) = std::thread::scope(|s| {
-            let plain = compiler_thread(s, || lower_parsed(&file, source.len(), opts));
-            let culled = lower_parsed(&file, source.len(), &culling);
+            let plain = compiler_thread(s, || lower_parsed(&file, source, opts));
+            let culled = lower_parsed(&file, source, &culling);
             let plain = match plain {
                 Ok(handle) => joined(handle),
                 // No second thread: one after the other.
-                Err(_) => lower_parsed(&file, source.len(), opts),
+                Err(_) => lower_parsed(&file, source, opts),
             };
             (culled, plain)
         });
@@ -157,17 +214,27 @@ pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
 }
 
 fn lower_here(source: &str, opts: &Options) -> Result<Lowered, Failure> {
-    let file = sdfc_syntax::parse(source).map_err(Failure::Diagnostics)?;
-    lower_parsed(&file, source.len(), opts)
+    lower_parsed(&parse(source)?, source, opts)
+}
+
+/// Parses; syntax errors come back placed.
+fn parse(source: &str) -> Result<sdfc_syntax::ast::File, Failure> {
+    sdfc_syntax::parse(source).map_err(|d| Failure::Diagnostics(placed(d, source)))
+}
+
+/// The diagnostics with their line and column in `source` filled in.
+fn placed(diagnostics: Vec<Diagnostic>, source: &str) -> Vec<Diagnostic> {
+    diagnostics.into_iter().map(|d| d.placed(source)).collect()
 }
 
 fn lower_parsed(
     file: &sdfc_syntax::ast::File,
-    source_len: usize,
+    source: &str,
     opts: &Options,
 ) -> Result<Lowered, Failure> {
     let ir = sdfc_ir::IrOptions { cull: opts.cull };
-    let (stages, warnings) = sdfc_ir::compile_with(file, source_len, &ir);
+    let (stages, warnings) = sdfc_ir::compile_with(file, source.len(), &ir);
+    let warnings = placed(warnings, source);
     match stages {
         Some(stages) => Ok(Lowered {
             stages,
@@ -178,7 +245,7 @@ fn lower_parsed(
     }
 }
 
-/// Runs `f` on a thread with the compiler's stack ([`STACK_BYTES`]); a panic in it (a bug)
+/// Runs `f` on a thread with the compiler's stack (256 MiB); a panic in it (a bug)
 /// comes back as an internal error.
 pub fn on_compiler_stack<T: Send>(
     f: impl FnOnce() -> Result<T, Failure> + Send,
@@ -192,7 +259,7 @@ pub fn on_compiler_stack<T: Send>(
     })
 }
 
-/// Starts `f` on a scoped thread with the compiler's stack.
+/// Starts `f` on a scoped thread with the compiler's stack ([`STACK_BYTES`]).
 fn compiler_thread<'s, T: Send + 's>(
     s: &'s std::thread::Scope<'s, '_>,
     f: impl FnOnce() -> Result<T, Failure> + Send + 's,
@@ -215,6 +282,7 @@ fn joined<T>(handle: std::thread::ScopedJoinHandle<'_, Result<T, Failure>>) -> R
 
 /// Emits and validates; the import-path line (not WGSL) is added after validation.
 pub fn emit_validated(program: &Program, opts: &Options) -> Result<String, Failure> {
+    opts.check().map_err(Failure::Usage)?;
     let wgsl = module::emit(program, opts.lib);
     if let Err(report) = validate::validate("scene.wgsl", &wgsl) {
         return Err(Failure::Internal { report, wgsl });

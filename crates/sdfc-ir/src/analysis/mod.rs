@@ -701,13 +701,33 @@ fn round_up(x: f64) -> f64 {
     if x.is_nan() || x <= 0.0 || !x.is_finite() {
         return x;
     }
-    let e = 10f64.powi(x.log10().floor() as i32 - 2);
-    (x / e).ceil() * e
+    // Scaled by an exact power of ten and back by dividing: multiplying by 0.01 (inexact)
+    // printed 3.01 as 3.0100000000000002.
+    let k = x.log10().floor() as i32 - 2;
+    if k < 0 {
+        let scale = 10f64.powi(-k);
+        (x * scale).ceil() / scale
+    } else {
+        let scale = 10f64.powi(k);
+        (x / scale).ceil() * scale
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Hints print the rounded bound as a user would write it.
+    #[test]
+    fn hints_round_up_to_three_digits_and_print_short() {
+        assert_eq!(round_up(3.0000001).to_string(), "3.01");
+        assert_eq!(round_up(0.0123401).to_string(), "0.0124");
+        assert_eq!(round_up(12345.6).to_string(), "12400");
+        assert_eq!(round_up(2.5).to_string(), "2.5");
+        for x in [0.3333, 1.7001, 7.77777, 123.4567, 9.999] {
+            assert!(round_up(x) >= x, "{x}");
+        }
+    }
 
     /// The spectral norm of `m` by power iteration on `m^T m` (a lower estimate that
     /// converges to the true value), for comparison with the closed form.

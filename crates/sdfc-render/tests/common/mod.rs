@@ -60,9 +60,7 @@ pub fn compile(name: &str, source: &str) -> sdfc_wgsl::Compiled {
             "{name} does not compile:\n{}",
             sdfc_syntax::diag::render_with(name, source, &d, false)
         ),
-        Err(sdfc_wgsl::Failure::Internal { report, .. }) => {
-            panic!("{name}: invalid WGSL emitted:\n{report}")
-        }
+        Err(f) => panic!("{name}: {f}"),
     }
 }
 

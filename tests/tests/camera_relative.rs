@@ -70,3 +70,52 @@ fn a_near_camera_keeps_world_coordinates() {
         .contains("const CAMERA_POSITION: vec3<f32> = vec3<f32>(0.0, 1.0, 6.0);"));
     assert!(!c.wgsl.contains("Camera-relative"));
 }
+
+/// Shapes whose world-space constants cannot hold their place at 1e5 (f32 steps there are
+/// 0.008): a turned box moved out (in the world function its offset `-R T`, folded in f32,
+/// is 0.0076 off), a plane whose offset is 1e5, and a repetition moved out along y with the
+/// camera 1e5 out along x and z. The reference (and `sdfc eval`) evaluates the
+/// camera-relative functions, and there, at points of the exact surfaces, the distances are
+/// zero to f32 rounding of small numbers. (The device's f32 side of the same scenes is
+/// `stress.rs::far_shapes_get_their_moves_folded_in_f64`.)
+#[test]
+fn folded_moves_put_far_surfaces_where_they_are() {
+    let camera = "camera { position: [100000.5, 100001.2, 100006], target: [100000, 100000.2, 100000], fov: 45deg }\n";
+    let (c, s) = (30f64.to_radians().cos() as f32 as f64, 0.5);
+    // A point of the turned box's +x face: T + R^T (0.6, 0, 0), R turning about y.
+    let face = [1e5 + 0.6 * c, 1e5, 1e5 - 0.6 * s];
+    let cases: [(&str, Vec<[f64; 3]>); 3] = [
+        (
+            "scene = box([1.2, 0.8, 1]).rotate_y(30deg).translate([100000, 100000, 100000]);",
+            vec![
+                face,
+                [1e5, 1e5 + 0.4, 1e5],
+                [1e5 + 0.5 * s, 1e5, 1e5 + 0.5 * c],
+            ],
+        ),
+        (
+            "scene = plane([0, 1, 0], 100000);",
+            vec![[1e5, 1e5, 1e5], [100003.7, 1e5, 99990.1]],
+        ),
+        (
+            // Cells every 1.5: x = 100000.5 and z = 100006.5 are centres.
+            "scene = sphere(0.4).repeat([1.5, 0, 1.5]).translate([0, 100000, 0]);",
+            vec![
+                [100000.5, 100000.4, 100006.5],
+                [100000.9, 1e5, 100006.5],
+                [100002.0, 1e5, 100006.1],
+            ],
+        ),
+    ];
+    for (scene, points) in cases {
+        let source = format!("{camera}{scene}\n");
+        let compiled = compile(&source, &Options::default()).unwrap_or_else(|e| panic!("{e}"));
+        let program = compiled.program();
+        assert!(program.relative.is_some(), "{scene}");
+        let eval = sdfc_reference::scene::SceneEval::new(program, &[], 0.0);
+        for p in points {
+            let d = eval.distance(p);
+            assert!(d.abs() < 2e-6, "{scene}: {d:e} at {p:?}");
+        }
+    }
+}

@@ -191,6 +191,26 @@ fn sizes_past_the_magnitude_limit_are_refused_and_at_it_compile() {
     }
 }
 
+/// A param's default past the limit is refused like a constant size (a 1e20 position made
+/// the shape vanish: its length overflowed); at the limit it compiles.
+#[test]
+fn param_values_past_the_magnitude_limit_are_refused() {
+    for scene in [
+        "param c = [1e20, 0, 0];\nscene = sphere(1).translate(c);",
+        "param r = -2e12;\nscene = sphere(r);",
+    ] {
+        let msg = refused(scene, scene);
+        assert!(
+            msg.contains(&format!("must be at most {MAX_MAGNITUDE:e} in magnitude")),
+            "{scene}: {msg}"
+        );
+    }
+    compiled(
+        "at the limit",
+        "param c = [1e12, -1e12, 0];\nscene = sphere(1).translate(c);",
+    );
+}
+
 #[test]
 fn parentheses_nested_past_the_limit_are_refused_without_overflow() {
     let depth = 200_000;

@@ -4,7 +4,6 @@
 use crate::out::say;
 use crate::render::{open_renderer, param_overrides, render_failure, to_f32};
 use crate::{load_scene, read_source, Outcome};
-use sdfc_ir::eval::{eval_func, Inputs};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -20,8 +19,8 @@ pub struct Args {
     /// Override a param: NAME=VALUE, or NAME=x,y,z for vectors
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
-    /// Time in seconds
-    #[arg(long, default_value_t = 0.0)]
+    /// Time in seconds (negative too: `--time -1`)
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     time: f64,
 }
 
@@ -66,15 +65,10 @@ pub fn run(a: Args) -> Outcome {
             out += &format!("{d:?}\n");
         }
     } else {
+        // The reference's evaluator: camera-relative functions where the camera is far out.
+        let scene = sdfc_reference::scene::SceneEval::new(program, &params, a.time);
         for p in points {
-            let inputs = Inputs {
-                point: p,
-                ray: [0.0; 3],
-                params: params.clone(),
-                time: a.time,
-            };
-            let d = eval_func(&program.distance, &program.groups, &inputs);
-            out += &format!("{:?}\n", d[0].scalar().unwrap_or(f64::NAN));
+            out += &format!("{:?}\n", scene.distance(p));
         }
     }
     crate::out::print_last(&out)

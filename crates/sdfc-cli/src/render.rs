@@ -25,8 +25,8 @@ pub struct Args {
     /// Override a param: NAME=VALUE, or NAME=x,y,z for vectors (repeatable)
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
-    /// Time in seconds
-    #[arg(long, default_value_t = 0.0)]
+    /// Time in seconds (negative too: `--time -1`)
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     time: f32,
     /// Write a float image instead of the colour: depth (t along the ray, inf on a miss),
     /// normal (world space, 0 on a miss) or steps (march count)

@@ -530,6 +530,13 @@ fn eval_with_time() {
     )
     .expect_code(0);
     assert_eq!(eval_lines(&run), vec![0.0], "{}", run.describe());
+    // A negative time as its own argument (clap took `-1` for a flag before).
+    let run = sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&pts), "--time", "-1"],
+    )
+    .expect_code(0);
+    assert_eq!(eval_lines(&run), vec![3.0], "{}", run.describe());
 }
 
 #[test]

@@ -229,6 +229,9 @@ pub mod limits {
     /// The largest magnitude of a constant shape or transform argument (a size, a position,
     /// a factor): three such multiplied stay below f32's 3.4e38.
     pub const MAX_MAGNITUDE: f32 = 1e12;
+    /// Why param values are held to [`MAX_MAGNITUDE`] too (defaults and render overrides).
+    pub const PARAM_MAGNITUDE_WHY: &str = "as a size or position a larger value makes \
+        distances overflow f32 (a length squares it), and shapes vanish";
     /// Shapes of the scene unfolded into a tree (a `let` shape counts once per use). A
     /// 1 MiB file of one flat union holds about 28 000 shapes (56 000 with a transform each).
     pub const MAX_SHAPE_INSTANCES: u64 = 100_000;

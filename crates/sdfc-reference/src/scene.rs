@@ -2,6 +2,7 @@
 
 use crate::vec::V3;
 use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::func::Func;
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
 
@@ -14,8 +15,17 @@ pub struct Material {
 }
 
 /// The program's scene functions at fixed params and time.
+///
+/// For a camera far from the origin the program also has the functions in camera-relative
+/// coordinates (`Program::relative`), and those are evaluated, at `p - origin` (exact in
+/// f64): the world functions' constants are f32, and an offset composed at compile time
+/// near 1e5 (a turned shape moved there: `-R T`) is rounded to 0.008 in them, where the
+/// relative functions' small offsets were computed in f64 and rounded once.
 pub struct SceneEval<'a> {
-    program: &'a Program,
+    distance: &'a Func,
+    material: &'a Func,
+    groups: &'a [Func],
+    origin: [f64; 3],
     params: Vec<Value<f64>>,
     time: f64,
 }
@@ -30,8 +40,25 @@ impl<'a> SceneEval<'a> {
             .enumerate()
             .map(|(i, d)| params.get(i).copied().unwrap_or_else(|| d.default.cast()))
             .collect();
+        let (distance, material, groups, origin) = match &program.relative {
+            Some(r) => (
+                &r.distance,
+                &r.material,
+                &r.groups[..],
+                r.origin.map(|c| c as f64),
+            ),
+            None => (
+                &program.distance,
+                &program.material,
+                &program.groups[..],
+                [0.0; 3],
+            ),
+        };
         SceneEval {
-            program,
+            distance,
+            material,
+            groups,
+            origin,
             params,
             time,
         }
@@ -39,7 +66,7 @@ impl<'a> SceneEval<'a> {
 
     fn inputs(&self, p: V3) -> Inputs<f64> {
         Inputs {
-            point: p,
+            point: std::array::from_fn(|k| p[k] - self.origin[k]),
             ray: [0.0; 3],
             params: self.params.clone(),
             time: self.time,
@@ -48,11 +75,7 @@ impl<'a> SceneEval<'a> {
 
     /// The signed distance at `p`.
     pub fn distance(&self, p: V3) -> f64 {
-        let r = eval_func(
-            &self.program.distance,
-            &self.program.groups,
-            &self.inputs(p),
-        );
+        let r = eval_func(self.distance, self.groups, &self.inputs(p));
         match r.first() {
             Some(Value::F(d)) => *d,
             _ => f64::NAN,
@@ -61,11 +84,7 @@ impl<'a> SceneEval<'a> {
 
     /// The material at `p`.
     pub fn material(&self, p: V3) -> Material {
-        let r = eval_func(
-            &self.program.material,
-            &self.program.groups,
-            &self.inputs(p),
-        );
+        let r = eval_func(self.material, self.groups, &self.inputs(p));
         let v4 = |v: Option<&Value<f64>>| match v {
             Some(Value::V4(a)) => *a,
             _ => [0.0; 4],

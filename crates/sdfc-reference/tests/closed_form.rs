@@ -87,6 +87,22 @@ fn sphere_depth_and_normals_match_the_closed_form() {
     );
 }
 
+/// A sphere whose distance is divided by a declared Lipschitz bound of 4 (its gradient a
+/// quarter), 1e5 from the origin: the reference's zero-thickness test had compared the
+/// central difference with the step, took this surface for one, and sampled a unit back
+/// along the ray (normals 22 degrees off). The camera's and the centre's coordinates are
+/// exact in f32, so the camera-relative offset is too.
+#[test]
+fn a_slow_field_far_out_has_exact_normals() {
+    let c = [1e5; 3];
+    check(
+        "sphere, lipschitz 4, at 1e5",
+        "camera { position: [100000.5, 100000.75, 100004], target: [100000, 100000, 100000], fov: 50deg }\n\
+         scene = sdf(|p| length(p) - 1, lipschitz: 4).translate([100000, 100000, 100000]);\n",
+        |o, d| sphere_t(o, d, c, 1.0),
+    );
+}
+
 #[test]
 fn box_depth_and_normals_match_the_slab_method() {
     let c = [f(0.1), f(0.2), f(-0.3)];

@@ -145,6 +145,13 @@ fn bad_params_and_time_are_input_errors() {
         ),
         (
             RenderOptions {
+                params: vec![("c".into(), vec![1e20, 0.0, 0.0])],
+                ..RenderOptions::sized(8, 8)
+            },
+            "at most 1e12 in magnitude",
+        ),
+        (
+            RenderOptions {
                 time: f32::INFINITY,
                 ..RenderOptions::sized(8, 8)
             },

@@ -424,6 +424,20 @@ impl<'a> Lowerer<'a> {
             );
             return Val::Poison;
         }
+        if v.comps().iter().any(|c| c.abs() > limits::MAX_MAGNITUDE) {
+            self.error(
+                Diagnostic::error(
+                    default.span,
+                    format!(
+                        "a param's value must be at most {:e} in magnitude",
+                        limits::MAX_MAGNITUDE
+                    ),
+                )
+                .with_label("this default")
+                .with_hint(limits::PARAM_MAGNITUDE_WHY),
+            );
+            return Val::Poison;
+        }
         if self.params.len() >= limits::MAX_PARAMS {
             self.error(Diagnostic::error(
                 name.span,

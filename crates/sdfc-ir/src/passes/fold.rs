@@ -7,7 +7,7 @@ use crate::eval;
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
 use crate::ops::Op;
-use crate::value::Value;
+use crate::value::{Float, Value};
 use sdfc_syntax::span::Span;
 
 /// The message for a constant that folds to infinity or NaN.
@@ -33,24 +33,36 @@ pub fn add_folded(g: &mut Graph, op: Op, args: &[NodeId], span: Span) -> NodeId 
     }
 }
 
-/// The value of a node that depends on constants only, memoised.
+/// The value of a node that depends on constants only, memoised (in f32, as folding
+/// computes it).
 pub fn const_value(
     g: &Graph,
     id: NodeId,
     memo: &mut FxHashMap<NodeId, Option<Value<f32>>>,
 ) -> Option<Value<f32>> {
+    const_value_in(g, id, memo)
+}
+
+/// [`const_value`] computed in `T`: in f64, from the f32 constants the source's numbers
+/// became, a value is not rounded at each step (camera-relative offsets near 1e5, where an
+/// f32 step is 0.008).
+pub fn const_value_in<T: Float>(
+    g: &Graph,
+    id: NodeId,
+    memo: &mut FxHashMap<NodeId, Option<Value<T>>>,
+) -> Option<Value<T>> {
     if let Some(v) = memo.get(&id) {
         return *v;
     }
     let node = *g.node(id);
     let out = match node.op {
-        Op::Const(c) => Some(c.to_value()),
+        Op::Const(c) => Some(c.to_value().cast()),
         op if op.is_input() => None,
         op => {
             let mut args = Vec::new();
             let mut all = true;
             for a in node.args() {
-                match const_value(g, *a, memo) {
+                match const_value_in(g, *a, memo) {
                     Some(v) => args.push(v),
                     None => {
                         all = false;

@@ -1,18 +1,21 @@
 //! Camera-relative coordinates: the scene moved so that the camera sits at the origin, for a
 //! camera far from it. f32 points near 1e5 are 0.008 apart, so a shader that marches in world
 //! coordinates there cannot place a surface better than that; moved, the points it works on
-//! are small again. The move is folded into the scene's own affine maps where it can be
-//! (their offsets are recomputed in f64 and rounded once, so `translate(s, [1e5, ...])` seen
-//! from a camera at 1e5 becomes a small exact offset); below a shape whose point map is not
-//! affine (repetition, mirrors, lambdas in world space) it stays a runtime addition.
+//! are small again. The move goes down the shape tree in f64 and is folded, rounded once,
+//! wherever it can be: into an affine map (`translate(s, [1e5, ...])` seen from a camera at
+//! 1e5 becomes a small exact offset, and a turned shape's `-R T` is not rounded before the
+//! camera's shift is added), into a plane's offset, and through an infinite repetition
+//! modulo its period (a repetition is the same after a move by whole periods). Below a shape
+//! whose point map is none of these (mirrors, limited repetition, lambdas in world space) it
+//! stays a runtime addition.
 
-use super::fold::const_value;
+use super::fold::const_value_in;
 use crate::eval::apply;
 use crate::graph::NodeId;
 use crate::hash::FxHashMap;
 use crate::ops::Op;
 use crate::scene::{LightKind, Scene};
-use crate::shape::{PointMap, ShapeId, ShapeKind, ShapeNode};
+use crate::shape::{PointMap, Prim, ShapeId, ShapeKind, ShapeNode};
 use crate::types::Ty;
 use crate::value::Value;
 
@@ -50,9 +53,11 @@ pub fn shift(scene: &Scene, origin: [f32; 3]) -> Scene {
 
 struct Shifter {
     scene: Scene,
+    /// The camera's position: the move at the root.
     c: [f64; 3],
-    memo: FxHashMap<ShapeId, ShapeId>,
-    values: FxHashMap<NodeId, Option<Value<f32>>>,
+    /// Shapes already moved, by shape and move (the bits of its three f64s).
+    memo: FxHashMap<(ShapeId, [u64; 3]), ShapeId>,
+    values: FxHashMap<NodeId, Option<Value<f64>>>,
 }
 
 impl Shifter {
@@ -61,25 +66,74 @@ impl Shifter {
         ShapeId(self.scene.shapes.len() as u32 - 1)
     }
 
-    /// The value of a node computed from constants only (as folding computes it, in f32).
+    /// The value of a node computed from constants only, in f64: an offset such as
+    /// `R (-1e5, -1e5, -1e5)` (a turned shape moved far out) rounded to f32 before the
+    /// camera's shift was added would keep its 0.008 error in the small result.
     fn konst(&mut self, n: NodeId) -> Option<Value<f64>> {
-        const_value(&self.scene.values, n, &mut self.values).map(|v| v.cast())
+        const_value_in(&self.scene.values, n, &mut self.values)
     }
 
-    /// The shape whose distance at q is `id`'s at q + c.
+    /// A constant vec3 node, rounded to f32 once.
+    fn vec3(&mut self, v: [f64; 3]) -> NodeId {
+        self.scene.values.konst(Value::V3(v.map(|x| x as f32)))
+    }
+
+    /// `id` seen from the camera: the shape whose distance at q is `id`'s at q + c.
     fn shift(&mut self, id: ShapeId) -> ShapeId {
-        if let Some(s) = self.memo.get(&id) {
+        let c = self.c;
+        self.moved(id, c)
+    }
+
+    /// The shape whose distance at q is `id`'s at q + `c`.
+    fn moved(&mut self, id: ShapeId, c: [f64; 3]) -> ShapeId {
+        let key = (id, c.map(f64::to_bits));
+        if let Some(s) = self.memo.get(&key) {
             return *s;
         }
         let node = self.scene.shape(id).clone();
         let span = node.span;
         let out = match node.kind {
+            // A translation or scale that leaves a move still far out (the camera is near
+            // this part of the scene along no axis, or not along all): s child((q + c + o) /
+            // s) = s child'(q / s), child' the child moved by w = (c + o) / s, which goes on
+            // down in f64 to a plane or repetition that can fold it. Where the move becomes
+            // small it is folded here instead (below), once for all the children: one small
+            // point q + c + o that they share, which they turn and offset as at the origin.
+            ShapeKind::Map {
+                map: PointMap::Affine { m: None, o, s },
+                child,
+            } if self
+                .local_move(None, o, s, c)
+                .is_some_and(|w| w.iter().any(|x| x.abs() >= FROM as f64)) =>
+            {
+                let w = self.local_move(None, o, s, c).unwrap_or(c);
+                let child = self.moved(child, w);
+                if s.is_none() {
+                    child
+                } else {
+                    self.push(
+                        ShapeKind::Map {
+                            map: PointMap::Affine {
+                                m: None,
+                                o: None,
+                                s,
+                            },
+                            child,
+                        },
+                        span,
+                    )
+                }
+            }
+            // (m (q + c) + o) / s = (m q + (m c + o)) / s: the sum rounded once where m and o
+            // are constants, else at run time.
             ShapeKind::Map {
                 map: PointMap::Affine { m, o, s },
                 child,
             } => {
-                // (m (q + c) + o) / s = (m q + (m c + o)) / s.
-                let o = Some(self.offset(m, o, span));
+                let o = Some(match self.local_move(m, o, None, c) {
+                    Some(v) => self.vec3(v),
+                    None => self.runtime_offset(m, o, c, span),
+                });
                 self.push(
                     ShapeKind::Map {
                         map: PointMap::Affine { m, o, s },
@@ -88,12 +142,56 @@ impl Shifter {
                     span,
                 )
             }
+            ShapeKind::Map {
+                map: PointMap::Repeat { period },
+                child,
+            } => {
+                // Along a repeated axis a move by whole periods changes nothing: what is
+                // left of it, under half a period, goes above the repetition; along the
+                // others the repetition leaves the point alone, so the move goes below it.
+                let mut above = [0.0; 3];
+                let mut below = c;
+                for k in 0..3 {
+                    if period[k] != 0.0 {
+                        let p = period[k] as f64;
+                        above[k] = c[k] - p * (c[k] / p).round();
+                        below[k] = 0.0;
+                    }
+                }
+                let child = self.moved(child, below);
+                let repeated = self.push(
+                    ShapeKind::Map {
+                        map: PointMap::Repeat { period },
+                        child,
+                    },
+                    span,
+                );
+                self.translated(repeated, above, span)
+            }
+            ShapeKind::Prim {
+                prim: Prim::Plane,
+                ref args,
+            } => match (self.konst(args[0]), self.konst(args[1])) {
+                // dot(q + c, n) - h = dot(q, n) - (h - dot(c, n)).
+                (Some(Value::V3(n)), Some(Value::F(h))) => {
+                    let h = h - (0..3).map(|k| c[k] * n[k]).sum::<f64>();
+                    let h = self.scene.values.konst(Value::F(h as f32));
+                    self.push(
+                        ShapeKind::Prim {
+                            prim: Prim::Plane,
+                            args: vec![args[0], h],
+                        },
+                        span,
+                    )
+                }
+                _ => self.translated(id, c, span),
+            },
             ShapeKind::Combine {
                 op,
                 smooth,
                 children,
             } => {
-                let children = children.into_iter().map(|c| self.shift(c)).collect();
+                let children = children.into_iter().map(|k| self.moved(k, c)).collect();
                 self.push(
                     ShapeKind::Combine {
                         op,
@@ -104,56 +202,74 @@ impl Shifter {
                 )
             }
             ShapeKind::Material { material, child } => {
-                let child = self.shift(child);
+                let child = self.moved(child, c);
                 self.push(ShapeKind::Material { material, child }, span)
             }
             ShapeKind::Modify { modifier, child } => {
-                let child = self.shift(child);
+                let child = self.moved(child, c);
                 self.push(ShapeKind::Modify { modifier, child }, span)
             }
-            _ => {
-                let o = Some(self.offset(None, None, span));
-                self.push(
-                    ShapeKind::Map {
-                        map: PointMap::Affine {
-                            m: None,
-                            o,
-                            s: None,
-                        },
-                        child: id,
-                    },
-                    span,
-                )
-            }
+            _ => self.translated(id, c, span),
         };
-        self.memo.insert(id, out);
+        self.memo.insert(key, out);
         out
     }
 
-    /// `m c + o`: computed in f64 and rounded once where m and o are constants, else added
-    /// at run time.
-    fn offset(
+    /// `id` at q + `c`: an affine map with `c` (rounded once) as its offset; `id` itself
+    /// where `c` is zero.
+    fn translated(&mut self, id: ShapeId, c: [f64; 3], span: sdfc_syntax::span::Span) -> ShapeId {
+        if c == [0.0; 3] {
+            return id;
+        }
+        let o = Some(self.vec3(c));
+        self.push(
+            ShapeKind::Map {
+                map: PointMap::Affine {
+                    m: None,
+                    o,
+                    s: None,
+                },
+                child: id,
+            },
+            span,
+        )
+    }
+
+    /// `(m c + o) / s` in f64, where m, o and s are constants (or absent).
+    fn local_move(
         &mut self,
         m: Option<NodeId>,
         o: Option<NodeId>,
+        s: Option<NodeId>,
+        c: [f64; 3],
+    ) -> Option<[f64; 3]> {
+        let mut v = Value::V3(c);
+        if let Some(m) = m {
+            v = apply(Op::MatMul, Ty::Vec3, &[self.konst(m)?, v]);
+        }
+        if let Some(o) = o {
+            v = apply(Op::Add, Ty::Vec3, &[v, self.konst(o)?]);
+        }
+        let Value::V3(mut w) = v else { return None };
+        if let Some(s) = s {
+            let Value::F(s) = self.konst(s)? else {
+                return None;
+            };
+            w = w.map(|x| x / s);
+        }
+        w.iter().all(|x| x.is_finite()).then_some(w)
+    }
+
+    /// `m c + o` added at run time: m or o depend on params or time.
+    fn runtime_offset(
+        &mut self,
+        m: Option<NodeId>,
+        o: Option<NodeId>,
+        c: [f64; 3],
         span: sdfc_syntax::span::Span,
     ) -> NodeId {
-        let c = Value::V3(self.c);
-        let mk = m.map(|m| self.konst(m));
-        let ok = o.map(|o| self.konst(o));
-        if !matches!(mk, Some(None)) && !matches!(ok, Some(None)) {
-            let mc = match mk.flatten() {
-                Some(mv) => apply(Op::MatMul, Ty::Vec3, &[mv, c]),
-                None => c,
-            };
-            let v = match ok.flatten() {
-                Some(ov) => apply(Op::Add, Ty::Vec3, &[mc, ov]),
-                None => mc,
-            };
-            return self.scene.values.konst(v.cast());
-        }
+        let cn = self.vec3(c);
         let g = &mut self.scene.values;
-        let cn = g.konst(Value::V3(self.c.map(|x| x as f32)));
         let mc = match m {
             Some(m) => g.add(Op::MatMul, &[m, cn], span),
             None => cn,

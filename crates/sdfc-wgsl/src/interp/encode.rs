@@ -105,7 +105,8 @@ struct VIns {
 
 /// Encoding state shared by the two functions: the constant pool.
 struct Encoder<'p> {
-    program: &'p Program,
+    /// The group functions the two call.
+    groups: &'p [sdfc_ir::func::Func],
     consts: Vec<[f32; 4]>,
     const_index: HashMap<[u32; 4], u32>,
 }
@@ -183,10 +184,18 @@ impl Chunk {
 }
 
 /// Encodes a program; fails cleanly on an operation without an opcode or a scene beyond
-/// the limits.
+/// the limits. The functions are the ones the renderer marches with: camera-relative
+/// (`Program::relative`, a point q standing for the world point q + origin) where the camera
+/// is far from the origin, as in the specialised shader; a world-space interpreter lost the
+/// same precision there that the move to the camera exists to avoid (normals 81 degrees off
+/// at 1e5).
 pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
+    let (distance, material, groups) = match &program.relative {
+        Some(r) => (&r.distance, &r.material, &r.groups[..]),
+        None => (&program.distance, &program.material, &program.groups[..]),
+    };
     let mut e = Encoder {
-        program,
+        groups,
         consts: Vec::new(),
         const_index: HashMap::new(),
     };
@@ -199,13 +208,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     };
 
     let mut chunk = Chunk::new();
-    let d = e.func(
-        &mut chunk,
-        &program.distance,
-        &program.distance.results,
-        top,
-        0,
-    )?;
+    let d = e.func(&mut chunk, distance, &distance.results, top, 0)?;
     let d = reg(d[0], "the distance")?;
     chunk.ins.push(VIns {
         op: Opcode::Ret,
@@ -219,13 +222,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let distance = [start, code.len() as u32];
 
     let mut chunk = Chunk::new();
-    let m = e.func(
-        &mut chunk,
-        &program.material,
-        &program.material.results,
-        top,
-        0,
-    )?;
+    let m = e.func(&mut chunk, material, &material.results, top, 0)?;
     if m.len() != 2 {
         return Err(EncodeError::Unsupported(format!(
             "the material function returns {} values, not 2",
@@ -368,7 +365,7 @@ impl Encoder<'_> {
                 Op::Call { func, result } => {
                     let key = (func, node.args());
                     if let std::collections::btree_map::Entry::Vacant(slot) = inlined.entry(key) {
-                        let Some(group) = self.program.groups.get(func as usize) else {
+                        let Some(group) = self.groups.get(func as usize) else {
                             return Err(unsupported(format!("a call of missing group {func}")));
                         };
                         let want: Vec<u8> = wanted[&key].iter().copied().collect();

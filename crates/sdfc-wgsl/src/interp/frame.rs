@@ -80,11 +80,17 @@ pub fn frame_data_with(
 ) -> FrameData {
     let scene = &program.scene;
     let (forward, right, up, tan_half) = camera_basis(scene);
+    // Camera-relative coordinates where the bytecode has them (`encode`): the camera at
+    // the origin, the lights and the bounds moved with it.
+    let (camera, lights, origin) = match &program.relative {
+        Some(r) => ([0.0; 3], &r.lights, r.origin),
+        None => (scene.camera.position, &scene.lights, [0.0; 3]),
+    };
 
     // Data buffer: lights (2 entries each), params, constants.
     let mut data: Vec<[f32; 4]> = Vec::new();
     let lights_at = data.len() as u32;
-    for light in &scene.lights {
+    for light in lights {
         let (v, kind) = match light.kind {
             LightKind::Directional { direction } => (direction.map(|x| -x), 0.0),
             LightKind::Point { position } => (position, 1.0),
@@ -98,10 +104,10 @@ pub fn frame_data_with(
         let float = scene.params.get(i).is_some_and(|d| d.ty == Ty::F32);
         data.push(if float { [v[0]; 4] } else { *v });
     }
-    // The scene's slabs as the specialised shader's `ray_span` has them (world coordinates,
-    // as the interpreter marches): low corner with the mask of finite axes in w, high corner.
+    // The scene's slabs as the specialised shader's `ray_span` has them: low corner with the
+    // mask of finite axes in w, high corner.
     let bounds_at = data.len() as u32;
-    let slabs = span_slabs(root_bounds(program), [0.0; 3]);
+    let slabs = span_slabs(root_bounds(program), origin);
     let mut lo = [0.0f32; 4];
     let mut hi = [0.0f32; 4];
     let mut mask = 0u32;
@@ -126,7 +132,7 @@ pub fn frame_data_with(
     for h in header {
         w.u(h);
     }
-    w.v3f(scene.camera.position, tan_half);
+    w.v3f(camera, tan_half);
     w.v3f(forward, r.max_distance);
     w.v3f(right, (1.0 / r.gamma as f64) as f32);
     w.v3f(up, r.relaxation.max(1.0));
@@ -164,7 +170,7 @@ pub fn frame_data_with(
     w.f(ao.strength);
     w.f(ao.falloff);
     w.u(r.reflections);
-    w.u(scene.lights.len() as u32);
+    w.u(lights.len() as u32);
     let mut switches = 0;
     if r.epsilon == Epsilon::Pixel {
         switches |= SWITCH_EPSILON_PIXEL;

@@ -119,3 +119,96 @@ fn folded_moves_put_far_surfaces_where_they_are() {
         }
     }
 }
+
+/// Scenes moved up by 1e5 and seen from 1e5 out along x and z too, against the same scenes
+/// where they are: `s.translate(T)` at q is `s` at q - T. The moved scene's reference
+/// evaluates its camera-relative functions near the camera; the other has its camera at the
+/// origin, so it evaluates the world functions, in f64, exact at any distance. The move goes
+/// down through each kind of node (turns, scales, infinite repetition modulo its period,
+/// planes, limited repetition, a smooth union) and is checked against that independent
+/// evaluation, to f32 rounding of the offsets it becomes (relative to their size: 1e5 where
+/// a bounded shape is 1e5 from the camera).
+#[test]
+fn a_scene_moved_far_out_is_the_scene_where_it_was() {
+    const T: [f64; 3] = [0.0, 100000.0, 0.0];
+    const EYE: [f64; 3] = [100000.5, 100001.25, 100006.0];
+    let shapes = [
+        "sphere(0.4).repeat([1.5, 0, 1.5]).rotate_y(30deg)",
+        "plane([1, 0, 1], 0.25).rotate_z(20deg)",
+        "box([1, 0.5, 2]).translate([0.3, 0.2, 0.1]).scale(2.5)",
+        "sphere(0.3).repeat([1.25, 1.25, 0.75]).scale(0.5).rotate_x(10deg)",
+        "sphere(0.2).repeat([1, 0, 1], count: [5, 1, 5])",
+        "union(plane([0, 1, 0], -1), torus(1, 0.2).repeat([3, 0, 3]), smooth: 0.3)",
+    ];
+    let points: Vec<[f64; 3]> = (0..27)
+        .map(|i| {
+            let k = |j: u32| ((i / 3usize.pow(j)) % 3) as f64 - 1.0;
+            [
+                EYE[0] + 0.37 * k(0) + 0.1,
+                EYE[1] + 0.83 * k(1) - 1.0,
+                EYE[2] + 1.9 * k(2) - 4.0,
+            ]
+        })
+        .collect();
+    for shape in shapes {
+        let near = format!(
+            "camera {{ position: [0.5, 1.25, 6], target: [0, 0, 0] }}\nlet s = {shape};\nscene = s;\n"
+        );
+        let far = format!(
+            "camera {{ position: [{}, {}, {}], target: [100000, 100000, 100000] }}\n\
+             let s = {shape};\nscene = s.translate([{}, {}, {}]);\n",
+            EYE[0], EYE[1], EYE[2], T[0], T[1], T[2]
+        );
+        let (near, far) = (
+            compile(&near, &Options::default()).unwrap_or_else(|e| panic!("{e}")),
+            compile(&far, &Options::default()).unwrap_or_else(|e| panic!("{e}")),
+        );
+        assert!(near.program().relative.is_none() && far.program().relative.is_some());
+        let (en, ef) = (
+            sdfc_reference::scene::SceneEval::new(near.program(), &[], 0.0),
+            sdfc_reference::scene::SceneEval::new(far.program(), &[], 0.0),
+        );
+        for q in &points {
+            let p: [f64; 3] = std::array::from_fn(|k| q[k] - T[k]);
+            let (a, b) = (en.distance(p), ef.distance(*q));
+            assert!(
+                (a - b).abs() <= 2e-6 + 1e-7 * a.abs(),
+                "{shape}: {a} where it was, {b} moved, at {p:?}"
+            );
+        }
+    }
+}
+
+/// The move stops where carrying it would cost: a shared `let` doubled at each of 14 levels
+/// is moved as a whole (copied per move, its WGSL grew from 81 KB to 4 MB), and a chain of
+/// tiny scales keeps the move in range (divided by 1e-12 four times it overflowed f32 and
+/// made "not finite" errors in a scene that compiles seen from near the origin).
+#[test]
+fn the_move_neither_copies_shared_shapes_nor_overflows() {
+    let mut doubling = String::from("let l0 = sphere(0.5);\n");
+    for i in 1..=14 {
+        doubling += &format!(
+            "let l{i} = union(l{}, l{}.translate([{}, 0, 0]));\n",
+            i - 1,
+            i - 1,
+            1 << i
+        );
+    }
+    let wgsl = |camera_z: f64, scene: &str| {
+        let source = format!(
+            "camera {{ position: [0, 1, {camera_z}], target: [0, 0, 0], fov: 45deg }}\n{scene}"
+        );
+        compile(&source, &Options::default())
+            .unwrap_or_else(|e| panic!("{e}"))
+            .wgsl
+            .len()
+    };
+    let shared = format!("{doubling}scene = l14.translate([0, 0, 100000]);\n");
+    let (near, far) = (wgsl(100.0, &shared), wgsl(100000.0, &shared));
+    assert!(
+        far < 2 * near,
+        "{far} bytes seen from far, {near} from near"
+    );
+    let tiny = "scene = sphere(1).scale(1e-12).scale(1e-12).scale(1e-12).scale(1e-12);\n";
+    wgsl(100000.0, tiny);
+}

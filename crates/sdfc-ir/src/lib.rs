@@ -42,8 +42,10 @@ pub struct Program {
     /// Exactness and Lipschitz bounds of the scene's shapes (indexed like `scene.shapes`).
     pub analysis: analysis::Analysis,
     /// For a camera far from the origin, the same functions in camera-relative coordinates
-    /// (see [`passes::relative`]), which the render shader uses; `distance`, `material` and
-    /// `groups` stay in world coordinates (the library form, `sdfc eval`, the reference).
+    /// (see [`passes::relative`]), which the render shader and the interpreter's bytecode
+    /// march with, and the reference (and `sdfc eval`) evaluate at points nearer the camera
+    /// than the origin; `distance`, `material` and `groups` stay in world coordinates (the
+    /// library form, `eval --gpu`, points nearer the origin).
     pub relative: Option<Relative>,
 }
 

@@ -17,17 +17,26 @@ pub struct Material {
 /// The program's scene functions at fixed params and time.
 ///
 /// For a camera far from the origin the program also has the functions in camera-relative
-/// coordinates (`Program::relative`), and those are evaluated, at `p - origin` (exact in
-/// f64): the world functions' constants are f32, and an offset composed at compile time
-/// near 1e5 (a turned shape moved there: `-R T`) is rounded to 0.008 in them, where the
-/// relative functions' small offsets were computed in f64 and rounded once.
+/// coordinates (`Program::relative`), and a point nearer the camera than the origin is
+/// evaluated with those, at `p - origin` (exact in f64). Both have f32 constants, whose
+/// rounding grows with their distance from their own origin: a box turned and then moved to
+/// 1e5 has its offset `-R T` 0.0076 off in the world functions and exact to 1e-7 in the
+/// relative ones, and a box turned at the origin seen from 1e5 is exact in the world
+/// functions and 2.4e-4 off in the relative ones. So each point takes the frame whose
+/// origin is nearer.
 pub struct SceneEval<'a> {
+    world: Frame<'a>,
+    relative: Option<Frame<'a>>,
+    params: Vec<Value<f64>>,
+    time: f64,
+}
+
+/// One set of scene functions and the world point their origin stands for.
+struct Frame<'a> {
     distance: &'a Func,
     material: &'a Func,
     groups: &'a [Func],
     origin: [f64; 3],
-    params: Vec<Value<f64>>,
-    time: f64,
 }
 
 impl<'a> SceneEval<'a> {
@@ -40,42 +49,47 @@ impl<'a> SceneEval<'a> {
             .enumerate()
             .map(|(i, d)| params.get(i).copied().unwrap_or_else(|| d.default.cast()))
             .collect();
-        let (distance, material, groups, origin) = match &program.relative {
-            Some(r) => (
-                &r.distance,
-                &r.material,
-                &r.groups[..],
-                r.origin.map(|c| c as f64),
-            ),
-            None => (
-                &program.distance,
-                &program.material,
-                &program.groups[..],
-                [0.0; 3],
-            ),
+        let world = Frame {
+            distance: &program.distance,
+            material: &program.material,
+            groups: &program.groups,
+            origin: [0.0; 3],
         };
+        let relative = program.relative.as_ref().map(|r| Frame {
+            distance: &r.distance,
+            material: &r.material,
+            groups: &r.groups,
+            origin: r.origin.map(|c| c as f64),
+        });
         SceneEval {
-            distance,
-            material,
-            groups,
-            origin,
+            world,
+            relative,
             params,
             time,
         }
     }
 
-    fn inputs(&self, p: V3) -> Inputs<f64> {
-        Inputs {
-            point: std::array::from_fn(|k| p[k] - self.origin[k]),
+    /// The frame for `p` (the one whose origin is nearer, by the largest coordinate) and
+    /// the inputs at `p` in it.
+    fn at(&self, p: V3) -> (&Frame<'a>, Inputs<f64>) {
+        let far = |o: [f64; 3]| (0..3).map(|k| (p[k] - o[k]).abs()).fold(0.0, f64::max);
+        let frame = match &self.relative {
+            Some(r) if far(r.origin) < far([0.0; 3]) => r,
+            _ => &self.world,
+        };
+        let inputs = Inputs {
+            point: std::array::from_fn(|k| p[k] - frame.origin[k]),
             ray: [0.0; 3],
             params: self.params.clone(),
             time: self.time,
-        }
+        };
+        (frame, inputs)
     }
 
     /// The signed distance at `p`.
     pub fn distance(&self, p: V3) -> f64 {
-        let r = eval_func(self.distance, self.groups, &self.inputs(p));
+        let (frame, inputs) = self.at(p);
+        let r = eval_func(frame.distance, frame.groups, &inputs);
         match r.first() {
             Some(Value::F(d)) => *d,
             _ => f64::NAN,
@@ -84,7 +98,8 @@ impl<'a> SceneEval<'a> {
 
     /// The material at `p`.
     pub fn material(&self, p: V3) -> Material {
-        let r = eval_func(self.material, self.groups, &self.inputs(p));
+        let (frame, inputs) = self.at(p);
+        let r = eval_func(frame.material, frame.groups, &inputs);
         let v4 = |v: Option<&Value<f64>>| match v {
             Some(Value::V4(a)) => *a,
             _ => [0.0; 4],

@@ -16,17 +16,18 @@ const OFFSET: f64 = 1e-7;
 /// with a step far below any feature and far above f64 rounding at `p`'s magnitude. Where
 /// they cancel (a surface of zero thickness: the distance is |y| across it, and the two
 /// one-sided differences are opposite) the gradient is taken a little way back along the
-/// ray, on the side the ray comes from. Cancellation is judged against the one-sided
-/// differences, not the step: a field divided by its Lipschitz bound has a gradient of a
-/// quarter or less, and an absolute test sent such points 1e3 steps back (a unit at 1e5,
-/// normals 22 degrees off).
+/// ray, on the side the ray comes from (1e3 steps back: a grazing ray must leave the step's
+/// reach of the surface). Cancellation is judged against the one-sided differences, not
+/// the step: a field divided by its Lipschitz bound has a gradient of a quarter or less, and
+/// an absolute test took such surfaces for zero-thick ones, sampled a unit back at 1e5, and
+/// had normals 22 degrees off.
 pub fn normal(scene: &SceneEval, p: V3, rd: V3) -> V3 {
     let h = 1e-8 * scale(p);
     let (g, sides) = gradient(scene, p, h);
     if length(g) >= 0.1 * sides {
         return safe_normalize(g);
     }
-    safe_normalize(gradient(scene, sub(p, mul(rd, 10.0 * h)), h).0)
+    safe_normalize(gradient(scene, sub(p, mul(rd, 1e3 * h)), h).0)
 }
 
 /// Twice h times the central-difference gradient at `p`, and the length of the vector of

@@ -157,8 +157,11 @@ impl Frame {
         if x >= self.width || y >= self.height {
             return None;
         }
-        let i = 4 * (y as usize * self.width as usize + x as usize);
-        self.rgba.get(i..i + 4)?.try_into().ok()
+        let i = (y as usize)
+            .checked_mul(self.width as usize)?
+            .checked_add(x as usize)?
+            .checked_mul(4)?;
+        self.rgba.get(i..i.checked_add(4)?)?.try_into().ok()
     }
 
     /// `4 * width * height`, the length `rgba` should have; `None` if it overflows.

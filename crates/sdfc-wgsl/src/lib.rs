@@ -104,7 +104,7 @@ impl Failure {
     pub fn render(&self, file_name: &str, source: &str) -> String {
         match self {
             Failure::Diagnostics(d) => diag::render(file_name, source, d),
-            _ => format!("{self}\n"),
+            _ => format!("error: {self}\n"),
         }
     }
 }
@@ -183,6 +183,7 @@ pub fn lower(source: &str, opts: &Options) -> Result<Lowered, Failure> {
 /// preview waits for both; the 5 000-shape union's two take about as long as one).
 pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
     on_compiler_stack(|| {
+        opts.check().map_err(Failure::Usage)?;
         let file = parse(source)?;
         if opts.cull {
             return lower_parsed(&file, source, opts);
@@ -214,6 +215,7 @@ pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
 }
 
 fn lower_here(source: &str, opts: &Options) -> Result<Lowered, Failure> {
+    opts.check().map_err(Failure::Usage)?;
     lower_parsed(&parse(source)?, source, opts)
 }
 

@@ -155,6 +155,15 @@ fn doubling_fns_of_equal_values_hit_the_call_limit() {
 /// range, and constant expressions that overflow, which WGSL makes an error (a capsule's
 /// `dot(b - a, b - a)` under analytic normals). Arguments past the limit are now the user's
 /// error, placed at the argument; at the limit every primitive's shader validates.
+/// `scene` must be refused with the magnitude limit's message.
+fn refused_past_the_magnitude_limit(scene: &str) {
+    let msg = refused(scene, scene);
+    assert!(
+        msg.contains(&format!("must be at most {MAX_MAGNITUDE:e} in magnitude")),
+        "{scene}: {msg}"
+    );
+}
+
 #[test]
 fn sizes_past_the_magnitude_limit_are_refused_and_at_it_compile() {
     for scene in [
@@ -165,11 +174,7 @@ fn sizes_past_the_magnitude_limit_are_refused_and_at_it_compile() {
         "render { normals: analytic }\nscene = cone(1e30, 1e30);",
         "render { normals: analytic }\nscene = pyramid(1e30);",
     ] {
-        let msg = refused(scene, scene);
-        assert!(
-            msg.contains(&format!("must be at most {MAX_MAGNITUDE:e} in magnitude")),
-            "{scene}: {msg}"
-        );
+        refused_past_the_magnitude_limit(scene);
     }
     for normals in ["central", "analytic"] {
         for shape in [
@@ -199,11 +204,7 @@ fn param_values_past_the_magnitude_limit_are_refused() {
         "param c = [1e20, 0, 0];\nscene = sphere(1).translate(c);",
         "param r = -2e12;\nscene = sphere(r);",
     ] {
-        let msg = refused(scene, scene);
-        assert!(
-            msg.contains(&format!("must be at most {MAX_MAGNITUDE:e} in magnitude")),
-            "{scene}: {msg}"
-        );
+        refused_past_the_magnitude_limit(scene);
     }
     compiled(
         "at the limit",

@@ -65,7 +65,7 @@ pub fn run(a: Args) -> Outcome {
             out += &format!("{d:?}\n");
         }
     } else {
-        // The reference's evaluator: camera-relative functions where the camera is far out.
+        // The reference's evaluator: near a far camera, its camera-relative functions.
         let scene = sdfc_reference::scene::SceneEval::new(program, &params, a.time);
         for p in points {
             out += &format!("{:?}\n", scene.distance(p));

@@ -127,17 +127,13 @@ pub fn param_overrides(
         };
         let comps: Result<Vec<f64>, _> =
             value.split(',').map(|c| c.trim().parse::<f64>()).collect();
-        let max = sdfc_ir::scene::limits::MAX_MAGNITUDE as f64;
         match comps {
-            Ok(c) if c.len() == decl.ty.width() && c.iter().any(|v| v.abs() > max) => {
-                // As the renderer says it (`eval` without `--gpu` has no renderer to ask).
-                say!(
-                    "sdfc: param `{name}` must be at most {max:e} in magnitude, found `{value}`: {}",
-                    sdfc_ir::scene::limits::PARAM_MAGNITUDE_WHY
-                );
-                return Err(Outcome::InputError);
-            }
             Ok(c) if c.len() == decl.ty.width() && c.iter().all(|v| v.is_finite()) => {
+                // Checked here too: `eval` without `--gpu` has no renderer to refuse it.
+                if let Err(e) = sdfc_ir::scene::limits::check_param_magnitude(name, &c) {
+                    say!("sdfc: {e}");
+                    return Err(Outcome::InputError);
+                }
                 out.push((name.to_string(), c));
             }
             _ => {

@@ -515,6 +515,17 @@ fn eval_with_param_overrides() {
         &["eval", s(&scene), "--points", s(&pts), "--param", "r=big"],
     )
     .expect_code(1);
+    // Past the magnitude limit, as the renderer refuses it (here with no renderer).
+    let run = sdfc_in(
+        &t.0,
+        &["eval", s(&scene), "--points", s(&pts), "--param", "r=1e20"],
+    )
+    .expect_code(1);
+    assert!(
+        run.stderr.contains("must be at most 1e12 in magnitude"),
+        "{}",
+        run.describe()
+    );
 }
 
 #[test]

@@ -63,6 +63,49 @@ impl Program {
     }
 }
 
+/// One set of the scene functions and the world point their origin stands for: the world
+/// ones at the origin, or the camera-relative ones at the camera ([`Program::marched`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SceneFunctions<'a> {
+    pub origin: [f32; 3],
+    pub distance: &'a Func,
+    pub distance_ray: Option<&'a Func>,
+    pub material: &'a Func,
+    pub groups: &'a [Func],
+    /// The scene's lights as seen in this frame.
+    pub lights: &'a [scene::Light],
+}
+
+impl Program {
+    /// The world functions: the library form, `eval --gpu`, points near the origin.
+    pub fn world(&self) -> SceneFunctions<'_> {
+        SceneFunctions {
+            origin: [0.0; 3],
+            distance: &self.distance,
+            distance_ray: self.distance_ray.as_ref(),
+            material: &self.material,
+            groups: &self.groups,
+            lights: &self.scene.lights,
+        }
+    }
+
+    /// The functions a renderer marches with (the render shader, the interpreter's
+    /// bytecode): camera-relative where the program has them, else the world ones.
+    pub fn marched(&self) -> SceneFunctions<'_> {
+        match &self.relative {
+            Some(r) => SceneFunctions {
+                origin: r.origin,
+                distance: &r.distance,
+                distance_ray: r.distance_ray.as_ref(),
+                material: &r.material,
+                groups: &r.groups,
+                lights: &r.lights,
+            },
+            None => self.world(),
+        }
+    }
+}
+
 /// The scene functions in coordinates centred on `origin` (the camera position): each takes
 /// a point q and gives the world function's value at q + origin.
 #[derive(Clone, Debug)]

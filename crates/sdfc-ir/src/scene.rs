@@ -232,6 +232,18 @@ pub mod limits {
     /// Why param values are held to [`MAX_MAGNITUDE`] too (defaults and render overrides).
     pub const PARAM_MAGNITUDE_WHY: &str = "as a size or position a larger value makes \
         distances overflow f32 (a length squares it), and shapes vanish";
+
+    /// A param override past [`MAX_MAGNITUDE`], refused in these words by the renderer and
+    /// by `sdfc eval` (which evaluates on the CPU, without one).
+    pub fn check_param_magnitude(name: &str, value: &[f64]) -> Result<(), String> {
+        if value.iter().all(|c| c.abs() <= MAX_MAGNITUDE as f64) {
+            return Ok(());
+        }
+        Err(format!(
+            "param `{name}` must be at most {MAX_MAGNITUDE:e} in magnitude, found {value:?}: \
+             {PARAM_MAGNITUDE_WHY}"
+        ))
+    }
     /// Shapes of the scene unfolded into a tree (a `let` shape counts once per use). A
     /// 1 MiB file of one flat union holds about 28 000 shapes (56 000 with a transform each).
     pub const MAX_SHAPE_INSTANCES: u64 = 100_000;

@@ -2,9 +2,8 @@
 
 use crate::vec::V3;
 use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_ir::func::Func;
 use sdfc_ir::value::Value;
-use sdfc_ir::Program;
+use sdfc_ir::{Program, SceneFunctions};
 
 /// A surface's material as `scene_material` returns it: albedo = (rgb, reflectivity),
 /// phong = (ambient, diffuse, specular, shininess).
@@ -25,18 +24,10 @@ pub struct Material {
 /// functions and 2.4e-4 off in the relative ones. So each point takes the frame whose
 /// origin is nearer.
 pub struct SceneEval<'a> {
-    world: Frame<'a>,
-    relative: Option<Frame<'a>>,
+    world: SceneFunctions<'a>,
+    relative: Option<SceneFunctions<'a>>,
     params: Vec<Value<f64>>,
     time: f64,
-}
-
-/// One set of scene functions and the world point their origin stands for.
-struct Frame<'a> {
-    distance: &'a Func,
-    material: &'a Func,
-    groups: &'a [Func],
-    origin: [f64; 3],
 }
 
 impl<'a> SceneEval<'a> {
@@ -49,21 +40,9 @@ impl<'a> SceneEval<'a> {
             .enumerate()
             .map(|(i, d)| params.get(i).copied().unwrap_or_else(|| d.default.cast()))
             .collect();
-        let world = Frame {
-            distance: &program.distance,
-            material: &program.material,
-            groups: &program.groups,
-            origin: [0.0; 3],
-        };
-        let relative = program.relative.as_ref().map(|r| Frame {
-            distance: &r.distance,
-            material: &r.material,
-            groups: &r.groups,
-            origin: r.origin.map(|c| c as f64),
-        });
         SceneEval {
-            world,
-            relative,
+            world: program.world(),
+            relative: program.relative.is_some().then(|| program.marched()),
             params,
             time,
         }
@@ -71,14 +50,18 @@ impl<'a> SceneEval<'a> {
 
     /// The frame for `p` (the one whose origin is nearer, by the largest coordinate) and
     /// the inputs at `p` in it.
-    fn at(&self, p: V3) -> (&Frame<'a>, Inputs<f64>) {
-        let far = |o: [f64; 3]| (0..3).map(|k| (p[k] - o[k]).abs()).fold(0.0, f64::max);
+    fn at(&self, p: V3) -> (&SceneFunctions<'a>, Inputs<f64>) {
+        let far = |o: [f32; 3]| {
+            (0..3)
+                .map(|k| (p[k] - o[k] as f64).abs())
+                .fold(0.0, f64::max)
+        };
         let frame = match &self.relative {
             Some(r) if far(r.origin) < far([0.0; 3]) => r,
             _ => &self.world,
         };
         let inputs = Inputs {
-            point: std::array::from_fn(|k| p[k] - frame.origin[k]),
+            point: std::array::from_fn(|k| p[k] - frame.origin[k] as f64),
             ray: [0.0; 3],
             params: self.params.clone(),
             time: self.time,

@@ -43,13 +43,8 @@ pub(crate) fn values(
                 "param `{name}` must be finite, found {value:?}"
             )));
         }
-        let max = sdfc_ir::scene::limits::MAX_MAGNITUDE;
-        if value.iter().any(|c| c.abs() > max) {
-            return Err(RenderError::Param(format!(
-                "param `{name}` must be at most {max:e} in magnitude, found {value:?}: {}",
-                sdfc_ir::scene::limits::PARAM_MAGNITUDE_WHY
-            )));
-        }
+        let wide: Vec<f64> = value.iter().map(|&c| c as f64).collect();
+        sdfc_ir::scene::limits::check_param_magnitude(name, &wide).map_err(RenderError::Param)?;
         let mut v = [0.0; 4];
         v[..width].copy_from_slice(value);
         out[i] = v;

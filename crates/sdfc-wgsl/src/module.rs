@@ -19,11 +19,8 @@ fn uses(f: &&Func, pred: impl Fn(&Op) -> bool) -> bool {
 pub fn emit(p: &Program, lib: bool) -> String {
     // The render shader marches in camera-relative coordinates where the program has them;
     // the library keeps the world coordinates its callers pass.
-    let relative = p.relative.as_ref().filter(|_| !lib);
-    let (distance, material, groups, distance_ray) = match relative {
-        Some(r) => (&r.distance, &r.material, &r.groups, &r.distance_ray),
-        None => (&p.distance, &p.material, &p.groups, &p.distance_ray),
-    };
+    let frame = if lib { p.world() } else { p.marched() };
+    let (distance, material, groups) = (frame.distance, frame.material, frame.groups);
     // `scene_gradient`, derived from the distance function emitted here: only the marcher's
     // analytic normals call it (errors in its passes are the distance's, reported for it).
     let analytic = p.scene.render.normals == sdfc_ir::scene::Normals::Analytic && !lib;
@@ -31,7 +28,7 @@ pub fn emit(p: &Program, lib: bool) -> String {
     let gradient = gradient.as_ref();
     let all_groups = gradient.map(|g| g.all_groups(groups));
     // Only the marcher calls the ray form.
-    let distance_ray = distance_ray.as_ref().filter(|_| !lib);
+    let distance_ray = frame.distance_ray.filter(|_| !lib);
     let funcs: Vec<&Func> = [distance, material]
         .into_iter()
         .chain(distance_ray)
@@ -181,19 +178,11 @@ pub fn emit(p: &Program, lib: bool) -> String {
     if !lib {
         s += "\n";
         let bounds = marcher::root_bounds(p);
-        let view = match relative {
-            Some(r) => marcher::View {
-                origin: r.origin,
-                lights: &r.lights,
-                along_ray: distance_ray.is_some(),
-                bounds,
-            },
-            None => marcher::View {
-                origin: [0.0; 3],
-                lights: &p.scene.lights,
-                along_ray: distance_ray.is_some(),
-                bounds,
-            },
+        let view = marcher::View {
+            origin: frame.origin,
+            lights: frame.lights,
+            along_ray: distance_ray.is_some(),
+            bounds,
         };
         s += &marcher::emit(&p.scene, &view);
     }

@@ -12,7 +12,8 @@
 use super::fold::const_value_in;
 use crate::eval::apply;
 use crate::graph::NodeId;
-use crate::hash::FxHashMap;
+use crate::hash::{FxHashMap, FxHashSet};
+use crate::lower::expansion::children;
 use crate::ops::Op;
 use crate::scene::{LightKind, Scene};
 use crate::shape::{PointMap, Prim, ShapeId, ShapeKind, ShapeNode};
@@ -65,29 +66,16 @@ struct Shifter {
     uses: FxHashMap<ShapeId, u32>,
 }
 
-/// The shapes a shape is made of.
-fn children(kind: &ShapeKind) -> Vec<ShapeId> {
-    match kind {
-        ShapeKind::Map { child, .. }
-        | ShapeKind::Material { child, .. }
-        | ShapeKind::Modify { child, .. }
-        | ShapeKind::Displace { child, .. }
-        | ShapeKind::Warp { child, .. } => vec![*child],
-        ShapeKind::Combine { children, .. } => children.clone(),
-        _ => Vec::new(),
-    }
-}
-
 /// The number of parents of each shape reachable from the root (the root has none).
 fn uses(scene: &Scene) -> FxHashMap<ShapeId, u32> {
     let mut uses: FxHashMap<ShapeId, u32> = FxHashMap::default();
     let mut stack = vec![scene.root];
-    let mut seen = crate::hash::FxHashSet::default();
+    let mut seen = FxHashSet::default();
     while let Some(id) = stack.pop() {
         if !seen.insert(id) {
             continue;
         }
-        for c in children(&scene.shape(id).kind) {
+        for &c in children(&scene.shape(id).kind) {
             *uses.entry(c).or_default() += 1;
             stack.push(c);
         }

@@ -190,10 +190,12 @@ impl Chunk {
 /// same precision there that the move to the camera exists to avoid (normals 81 degrees off
 /// at 1e5).
 pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
-    let (distance, material, groups) = match &program.relative {
-        Some(r) => (&r.distance, &r.material, &r.groups[..]),
-        None => (&program.distance, &program.material, &program.groups[..]),
-    };
+    let sdfc_ir::SceneFunctions {
+        distance,
+        material,
+        groups,
+        ..
+    } = program.marched();
     let mut e = Encoder {
         groups,
         consts: Vec::new(),

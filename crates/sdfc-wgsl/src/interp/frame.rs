@@ -82,10 +82,9 @@ pub fn frame_data_with(
     let (forward, right, up, tan_half) = camera_basis(scene);
     // Camera-relative coordinates where the bytecode has them (`encode`): the camera at
     // the origin, the lights and the bounds moved with it.
-    let (camera, lights, origin) = match &program.relative {
-        Some(r) => ([0.0; 3], &r.lights, r.origin),
-        None => (scene.camera.position, &scene.lights, [0.0; 3]),
-    };
+    let marched = program.marched();
+    let (lights, origin) = (marched.lights, marched.origin);
+    let camera: [f32; 3] = std::array::from_fn(|k| scene.camera.position[k] - origin[k]);
 
     // Data buffer: lights (2 entries each), params, constants.
     let mut data: Vec<[f32; 4]> = Vec::new();

@@ -1,31 +1,29 @@
 #!/usr/bin/env bash
-# The performance figures that need a real GPU (issue 6: culling, specialised against
-# interpreted, first pixel, relaxation's time), in one prepared run for a session that is lent
-# a GPU machine through the device tool, whose device time is short and which has no Rust
-# toolchain and no network. Two steps:
+# The figures that need a real GPU (issue 6: culling, specialised against interpreted, first
+# pixel, tables, relaxation's time) and the render tests on it, prepared here and run in one
+# call on a machine lent through the device tool, which has no Rust toolchain and no network
+# and whose device time is short (docs/performance.md, "Measuring on a GPU"). Two steps:
 #
 #   scripts/gpu-bench.sh prepare
-#       here, on a machine with cargo: builds the release `sdfc`, the three render benches and
-#       the `compare_shader` example, strips them into `.gpu/` (ignored by git, about 35 MB),
-#       writes the table experiment's grids and shaders there (scripts/table-experiment.py),
-#       and downloads the Vulkan and EGL loaders' Debian packages into `.gl/` (ignored), which
-#       the GPU machine may lack.
+#       here, on a machine with cargo: builds the release `sdfc`, the three render benches,
+#       the `compare_shader` example and the render tests (profile gpu-test, packed with xz),
+#       strips them into `.gpu/` (ignored by git, about 45 MB), writes the table experiment's
+#       grids and shaders (scripts/table-experiment.py) and the culled grids there, and
+#       downloads the Vulkan and EGL loaders' Debian packages into `.gl/` (ignored).
 #   scripts/gpu-bench.sh run [SIZE]
 #       there, from the repository's root, with `.gpu` and `.gl` carried:
 #           run(command: "scripts/gpu-bench.sh run", carry: [".gpu", ".gl"], timeout_s: 580)
-#       unpacks the loaders, then runs each measurement under a time limit of its own and
-#       writes its log to $OUT (./gpu-out without it): render.log (specialised against
-#       interpreted, per suite scene), culling.log, first_pixel.log (with the 5 000-shape
-#       union), tables_300.log and tables_5000.log (a large union as code against as tables
-#       and loops), bench_*.md (`sdfc bench`: time against error, relaxation among the
-#       settings) and adapter.txt. SIZE (default 640x480) is the image size of the render,
-#       culling and table benches: 160x120 is too few pixels to fill a GPU. Each step that
-#       fails or runs out of time says so in summary.txt, and the others still run. The steps'
-#       limits add up to more than the call's: the last steps are the first to go, and the
-#       logs of those that ran still come back.
+#       unpacks the loaders, then runs each measurement (ALL below, or those named in
+#       SDFC_GPU_ONLY) under a time limit of its own. Their logs are packed into
+#       $OUT/logs.tar (./gpu-out without OUT) after each one, beside summary.txt, which says
+#       how each ended: the device tool brings back at most 8 files, and what is under $OUT
+#       when a call runs out of time still comes back. SIZE (default 640x480) is the image
+#       size of the render, culling and table benches: 160x120 is too few pixels to fill a
+#       GPU.
 #
 # `scripts/gpu-bench.sh run` works on any machine with a wgpu device (lavapipe too, slowly),
-# so it can be tried here before device time is spent: `SDFC_GPU_QUICK=1` shortens it.
+# so it can be tried here before device time is spent: `SDFC_GPU_QUICK=1` shortens it, and
+# `SDFC_GPU_TEST_LIMIT=5` cuts each test binary short.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -46,12 +44,34 @@ for line in sys.stdin:
 '
     cargo build --release -p sdfc-render --example compare_shader
     cp target/release/examples/compare_shader .gpu/compare_shader
+    # The render tests (crates/sdfc-render/tests), optimised without LTO (profile gpu-test).
+    rm -rf .gpu/tests && mkdir -p .gpu/tests
+    cargo test -p sdfc-render --profile gpu-test --no-run --message-format=json \
+        | python3 -c '
+import json, sys, shutil
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["kind"] == ["test"]:
+        shutil.copy(m["executable"], ".gpu/tests/" + m["target"]["name"])
+'
+    pwd >.gpu/tests.root
+    find .gpu -type f -perm -u+x -exec strip {} +
+    # 113 MB of test binaries share most of their code: xz packs them into 9 MB, which keeps
+    # the carried tree under the device tool's 64 MiB.
+    tar -cf - -C .gpu tests | xz -T2 -9 --lzma2=preset=9,dict=128MiB >.gpu/tests.tar.xz
+    rm -rf .gpu/tests
     rm -f .gpu/grid*
-    strip .gpu/*
     for n in 300 5000; do
         .gpu/compare_shader emit "$n" .gpu
         scripts/table-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-tables.wgsl"
     done
+    # Culling's own comparison: the close grid and the grid from the suite's camera, each
+    # compiled with --cull (the camera is in the shader).
+    sed 's/camera { position: \[2, 6, 12\], target: \[0, 3, -4\]/camera { position: [0, 20, 60], target: [0, 0, 0]/' \
+        .gpu/grid300.sdf >.gpu/grid300-far.sdf
+    cmp -s .gpu/grid300.sdf .gpu/grid300-far.sdf && { echo "the close grid's camera has changed" >&2; exit 1; }
+    .gpu/sdfc compile --cull .gpu/grid300.sdf -o .gpu/grid300-cull.wgsl
+    .gpu/sdfc compile --cull .gpu/grid300-far.sdf -o .gpu/grid300-far-cull.wgsl
     du -sh .gpu
     if command -v apt-get >/dev/null 2>&1; then
         # The device tool's advice: x86-64 packages of the loaders, unpacked there.
@@ -65,22 +85,43 @@ for line in sys.stdin:
     echo "ready: run scripts/gpu-bench.sh run with carry [\".gpu\", \".gl\"]"
 }
 
-# Runs one step under a time limit, its output to $out/NAME; records how it ended.
+# Runs one step under a time limit, its output to $logs/NAME; records how it ended in
+# $out/summary.txt and packs every log so far into $out/logs.tar. The device tool brings back
+# at most 8 files, and what is under $out when a call runs out of time still comes back.
 step() {
     local name="$1" limit="$2"
     shift 2
     local start=$SECONDS
-    timeout "$limit" "$@" >"$out/$name" 2>&1
+    timeout "$limit" "$@" >"$logs/$name" 2>&1
     local rc=$?
     local how="ok"
     [ "$rc" -eq 124 ] && how="timed out after ${limit}s"
     [ "$rc" -ne 0 ] && [ "$rc" -ne 124 ] && how="failed (exit $rc)"
     echo "$name: $how, $((SECONDS - start)) s" | tee -a "$out/summary.txt"
+    tar -cf "$out/logs.tar" -C "$logs" .
 }
 
-run() {
-    local size="${1:-640x480}"
+# The render tests carried in .gpu/tests.tar.xz, each binary in turn (those named in
+# SDFC_GPU_TESTS, else all), each with its own limit; CI=1 makes a test that finds no device
+# fail instead of skipping.
+render_tests() {
+    local t dir
+    dir="$(mktemp -d)"
+    tar -xJf .gpu/tests.tar.xz -C "$dir"
+    for t in "$dir"/tests/*; do
+        if [ -n "${SDFC_GPU_TESTS:-}" ] && ! [[ " $SDFC_GPU_TESTS " == *" $(basename "$t") "* ]]; then
+            continue
+        fi
+        echo "== $(basename "$t")"
+        CI=1 timeout "${SDFC_GPU_TEST_LIMIT:-60}" "$t" --test-threads 8 ${SDFC_GPU_TEST_ARGS:-} 2>&1 | grep -v '^test .* ok$'
+        echo "== $(basename "$t"): exit ${PIPESTATUS[0]} (124: out of time)"
+    done
+}
+
+# Loaders and driver files, where the test binaries look for the repository, and $out/$logs.
+setup() {
     out="${OUT:-gpu-out}"
+    logs="$(mktemp -d)"
     mkdir -p "$out"
     : >"$out/summary.txt"
     [ -x .gpu/sdfc ] || { echo "no .gpu/sdfc: run scripts/gpu-bench.sh prepare first, and carry .gpu" >&2; exit 2; }
@@ -93,20 +134,59 @@ run() {
     [ -f "$icd" ] && export VK_DRIVER_FILES="${VK_DRIVER_FILES:-$icd}"
     local egl=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
     [ -f "$egl" ] && export __EGL_VENDOR_LIBRARY_FILENAMES="${__EGL_VENDOR_LIBRARY_FILENAMES:-$egl}"
+    # The test binaries find the repository where they were built.
+    local built
+    built="$(cat .gpu/tests.root 2>/dev/null)"
+    if [ -n "$built" ] && [ ! -e "$built" ]; then
+        mkdir -p "$(dirname "$built")" && ln -s "$PWD" "$built"
+    fi
+    export -f render_tests
+}
+
+# One measurement by name, under its own time limit. $size is the image size of the render,
+# culling and table benches.
+measure() {
+    local quick="${SDFC_GPU_QUICK:-}" c=.gpu/compare_shader
+    case "$1" in
+        gpu) command -v nvidia-smi >/dev/null && step gpu.txt 15 nvidia-smi ;;
+        # The first render names the adapter; every later figure is on it.
+        adapter) step adapter.txt 40 .gpu/sdfc render examples/spec_section10.sdf -o "$logs/spec_section10.png" --size "$size" ;;
+        render) step render.log 90 .gpu/render none ;;
+        culling) step culling.log 45 .gpu/culling none ;;
+        # The 300-shape grid culled against plain, interleaved frames: from close by (every
+        # ray among the shapes) and from the suite's camera (most rays miss the grid).
+        culling_compare)
+            step culling_close.log 40 $c compare .gpu/grid300.sdf .gpu/grid300-cull.wgsl "$size"
+            step culling_far.log 40 $c compare .gpu/grid300-far.sdf .gpu/grid300-far-cull.wgsl "$size" ;;
+        # Every suite scene, the specialised path against the live one (with and without grace).
+        first_pixel) SDFC_BENCH_5000=0 step first_pixel.log 60 .gpu/first_pixel ;;
+        # The 5 000-shape union's live path alone: its preview is printed as soon as it is
+        # drawn, before the driver's build of the specialised pipeline, which can take minutes.
+        first_pixel_5000) [ -z "$quick" ] && SDFC_BENCH_SCENES=grid_5000 SDFC_BENCH_LIVE_ONLY=1 step first_pixel_5000.log "${SDFC_GPU_5000_LIMIT:-240}" .gpu/first_pixel ;;
+        render_tests) [ -f .gpu/tests.tar.xz ] && step render_tests.log 150 bash -c render_tests ;;
+        tables_300) step tables_300.log 30 $c compare .gpu/grid300.sdf .gpu/grid300-tables.wgsl "$size" ;;
+        tables_5000) [ -z "$quick" ] && step tables_5000.log 60 $c compare .gpu/grid5000.sdf .gpu/grid5000-tables.wgsl "$size" ;;
+        benches)
+            # The quick run leaves out three of the four scenes.
+            local s scenes="spec_section10 terrain fractals ribbed_sphere"
+            [ -n "$quick" ] && scenes="ribbed_sphere"
+            for s in $scenes; do
+                step "bench_$s.md" 30 .gpu/sdfc bench "examples/$s.sdf" --size 320x240 --runs 5 --markdown
+            done ;;
+        *) echo "no measurement $1" >&2; exit 2 ;;
+    esac
+}
+
+# All measurements, the slowest (the 5 000-shape union's) last.
+ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 benches tables_5000 first_pixel_5000"
+
+run() {
+    size="${1:-640x480}"
+    setup
     export SDFC_BENCH_SIZE="$size"
-    local quick="${SDFC_GPU_QUICK:-}"
-    # The first render names the adapter; every later figure is on it.
-    step adapter.txt 60 .gpu/sdfc render examples/spec_section10.sdf -o "$out/spec_section10.png" --size "$size"
-    step render.log 120 .gpu/render none
-    step culling.log 60 .gpu/culling none
-    step tables_300.log 45 .gpu/compare_shader compare .gpu/grid300.sdf .gpu/grid300-tables.wgsl "$size"
-    # The quick run leaves out the 5 000-shape union and three of the four scenes.
-    local big=1 scenes="spec_section10 terrain fractals ribbed_sphere"
-    [ -n "$quick" ] && big=0 scenes="ribbed_sphere"
-    SDFC_BENCH_5000=$big step first_pixel.log 150 .gpu/first_pixel
-    [ -z "$quick" ] && step tables_5000.log 75 .gpu/compare_shader compare .gpu/grid5000.sdf .gpu/grid5000-tables.wgsl "$size"
-    for s in $scenes; do
-        step "bench_$s.md" 40 .gpu/sdfc bench "examples/$s.sdf" --size 320x240 --runs 5 --markdown
+    local m
+    for m in ${SDFC_GPU_ONLY:-$ALL}; do
+        measure "$m"
     done
 }
 

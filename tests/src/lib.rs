@@ -192,6 +192,23 @@ pub fn suite_scene(name: &str) -> String {
     }
 }
 
+/// How long [`warm_up`] draws.
+pub const WARM_UP: std::time::Duration = std::time::Duration::from_millis(500);
+
+/// Calls `draw` (at least once) until [`WARM_UP`] has passed, before a bench times frames: a
+/// GPU idles at a fraction of its clock while pipelines build, and a few frames of a
+/// millisecond do not wake it (on an NVIDIA H200 a shader timed at 0.08 ms early in a sweep
+/// took 0.36 ms later in it, after builds).
+pub fn warm_up(mut draw: impl FnMut()) {
+    let start = std::time::Instant::now();
+    loop {
+        draw();
+        if start.elapsed() >= WARM_UP {
+            break;
+        }
+    }
+}
+
 /// The image size of the render benchmarks: `SDFC_BENCH_SIZE=WxH`, else 160x120.
 pub fn bench_size() -> (u32, u32) {
     std::env::var("SDFC_BENCH_SIZE")

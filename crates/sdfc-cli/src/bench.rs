@@ -14,15 +14,19 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// Frames of every setting drawn in turn before the timed ones.
+const WARM_UP: Duration = Duration::from_millis(500);
+
 #[derive(clap::Args)]
 #[command(
     after_help = "Each setting changes one thing from the scene's own settings, except the \
     plain marcher of the tutorials (absolute epsilon 1e-3, no relaxation, central normals), \
     the baseline. Time is the device's (timestamp queries) where the adapter has them, else \
-    wall time from submit to readback; the median of the warm runs, after one run that builds \
-    the pipeline. A setting marked * is on the Pareto front: no other is both faster and \
-    more accurate (fewer hit/miss mismatches away from silhouettes, then a smaller depth \
-    error)."
+    wall time from submit to readback; the median of the warm runs. Every setting's pipeline \
+    is built first; then the settings are drawn in turn for half a second, untimed, and then \
+    in turn for the timed runs, so that all are timed at the same device clocks. A setting \
+    marked * is on the Pareto front: no other is both faster and more accurate (fewer \
+    hit/miss mismatches away from silhouettes, then a smaller depth error)."
 )]
 pub struct Args {
     /// The scene file (.sdf)
@@ -189,7 +193,8 @@ pub fn run(a: Args) -> Outcome {
     let reference = crate::compare::reference(program, &overrides, a.size, 0.0);
     progress.inc(1);
 
-    let mut rows = Vec::new();
+    // Every setting's pipeline is built, and its first frame drawn, before any is timed.
+    let mut built = Vec::new();
     for setting in &sweep {
         progress.set_message(setting.name.clone());
         let mut variant = program.clone();
@@ -202,24 +207,12 @@ pub fn run(a: Args) -> Outcome {
                 return crate::report::failure(&name, "", &f);
             }
         };
-        let mut times = Vec::new();
-        let mut last = None;
-        // The first run builds the pipeline and is not timed.
-        for i in 0..=a.runs {
-            let frame = match renderer.render_wgsl(&variant, &wgsl, &opts) {
-                Ok(f) => f,
-                Err(e) => {
-                    progress.finish_and_clear();
-                    return render_failure(&e);
-                }
-            };
-            if i > 0 {
-                times.push(frame.device_time.unwrap_or(frame.wall_time));
+        let frame = match renderer.render_wgsl(&variant, &wgsl, &opts) {
+            Ok(f) => f,
+            Err(e) => {
+                progress.finish_and_clear();
+                return render_failure(&e);
             }
-            last = Some(frame);
-        }
-        let Some(frame) = last else {
-            continue;
         };
         if setting.render == program.scene.render {
             if let Some(path) = &a.heatmap {
@@ -229,9 +222,41 @@ pub fn run(a: Args) -> Outcome {
                 }
             }
         }
-        times.sort();
-        rows.push(row(setting, times[times.len() / 2], &frame, &reference));
+        built.push((variant, wgsl, frame));
         progress.inc(1);
+    }
+    // Then timed frame by frame in turn, after WARM_UP of the same: a GPU idles at a fraction
+    // of its clock while pipelines build and takes a while to raise it, so settings timed one
+    // after another were measured at different clocks (on an NVIDIA H200 the same shader took
+    // 0.08 ms early in a sweep and 0.36 ms later in it).
+    progress.set_message("timing");
+    let draw = |(variant, wgsl, _): &(Program, String, Frame)| {
+        renderer
+            .render_wgsl(variant, wgsl, &opts)
+            .map(|f| f.device_time.unwrap_or(f.wall_time))
+    };
+    let mut times = vec![Vec::new(); built.len()];
+    let warm = std::time::Instant::now();
+    for run in 0.. {
+        let timed = run >= 1 && warm.elapsed() >= WARM_UP;
+        if timed && times[0].len() == a.runs as usize {
+            break;
+        }
+        for (b, t) in built.iter().zip(&mut times) {
+            match draw(b) {
+                Ok(d) if timed => t.push(d),
+                Ok(_) => {}
+                Err(e) => {
+                    progress.finish_and_clear();
+                    return render_failure(&e);
+                }
+            }
+        }
+    }
+    let mut rows = Vec::new();
+    for ((setting, (_, _, frame)), mut t) in sweep.iter().zip(&built).zip(times) {
+        t.sort();
+        rows.push(row(setting, t[t.len() / 2], frame, &reference));
     }
     progress.finish_and_clear();
     mark_pareto(&mut rows);

@@ -34,17 +34,25 @@ fn options() -> RenderOptions {
     RenderOptions::sized(w, h)
 }
 
-/// Mean device time of a few warm frames (wall time where there are no timestamps).
-fn time(c: &Compiled) -> Duration {
+/// Mean device time (wall time where there are no timestamps) of a few frames of each, drawn
+/// in turn after a warm-up of both, so that both are timed at the same device clocks.
+fn times(a: &Compiled, b: &Compiled) -> (Duration, Duration) {
     let r = renderer();
-    r.render(c, &options()).expect("render");
-    let frames = 5;
-    let mut total = Duration::ZERO;
-    for _ in 0..frames {
+    let draw = |c: &Compiled| {
         let f = r.render(c, &options()).expect("render");
-        total += f.device_time.unwrap_or(f.wall_time);
+        f.device_time.unwrap_or(f.wall_time)
+    };
+    sdfc_tests::warm_up(|| {
+        draw(a);
+        draw(b);
+    });
+    let frames = 5;
+    let (mut ta, mut tb) = (Duration::ZERO, Duration::ZERO);
+    for _ in 0..frames {
+        ta += draw(a);
+        tb += draw(b);
     }
-    total / frames
+    (ta / frames, tb / frames)
 }
 
 fn depth(c: &Compiled) -> Vec<f32> {
@@ -76,7 +84,7 @@ fn main() {
     );
     for n in SIZES {
         let (plain, culled) = (compiled(n, false), compiled(n, true));
-        let (tp, tc) = (time(&plain), time(&culled));
+        let (tp, tc) = times(&plain, &culled);
         let (dp, dc) = (depth(&plain), depth(&culled));
         let diff = dp
             .iter()

@@ -11,7 +11,11 @@
 //! `cargo bench -p sdfc-render --bench first_pixel`. The image is 160x120, or
 //! `SDFC_BENCH_SIZE=WxH`; the preview at the device's default scale (an eighth of it on a CPU
 //! device, a quarter on a GPU). `SDFC_BENCH_5000=1` adds the
-//! 5 000-shape union (minutes on a CPU device). Mesa keeps built shaders in a disk cache:
+//! 5 000-shape union (minutes on a CPU device). `SDFC_BENCH_SCENES=a,b` measures those suite
+//! scenes instead. `SDFC_BENCH_LIVE_ONLY=1` measures the live path without grace alone, and
+//! prints the preview's time as soon as it is drawn: NVIDIA's driver took more than 100 s to
+//! build the 5 000-shape union's pipeline (docs/performance.md), so a run limited in time
+//! still learns the first pixel. Mesa keeps built shaders in a disk cache:
 //! `MESA_SHADER_CACHE_DISABLE=true` measures cold builds.
 
 use sdfc_render::{LiveOptions, RenderOptions, Renderer};
@@ -41,6 +45,11 @@ fn main() {
     if std::env::var("SDFC_BENCH_5000").is_ok_and(|v| v == "1") {
         scenes.push("grid_5000");
     }
+    let chosen = std::env::var("SDFC_BENCH_SCENES").unwrap_or_default();
+    if !chosen.is_empty() {
+        scenes = chosen.split(',').collect();
+    }
+    let live_only = std::env::var("SDFC_BENCH_LIVE_ONLY").is_ok_and(|v| v == "1");
     // `SDFC_BENCH_CULL=1`: both paths with bounding-box early-outs (`--cull`).
     let emit = sdfc_wgsl::Options {
         cull: std::env::var("SDFC_BENCH_CULL").is_ok_and(|v| v == "1"),
@@ -62,13 +71,16 @@ fn main() {
     for name in scenes {
         let src = sdfc_tests::suite_scene(name);
 
-        let r = Renderer::new().unwrap_or_else(|e| panic!("cannot render: {e}"));
-        let t = Instant::now();
-        let c =
-            sdfc_wgsl::compile(&src, &emit).unwrap_or_else(|_| panic!("{name} does not compile"));
-        r.render(&c, &opts).expect("render");
-        let specialised = t.elapsed();
-        drop(r);
+        let specialised = if live_only {
+            None
+        } else {
+            let r = Renderer::new().unwrap_or_else(|e| panic!("cannot render: {e}"));
+            let t = Instant::now();
+            let c = sdfc_wgsl::compile(&src, &emit)
+                .unwrap_or_else(|_| panic!("{name} does not compile"));
+            r.render(&c, &opts).expect("render");
+            Some(t.elapsed())
+        };
 
         let live = |r: &Renderer, grace: Duration| {
             let t = Instant::now();
@@ -83,16 +95,35 @@ fn main() {
                 ..LiveOptions::default()
             };
             let (_, report) = r
-                .render_live(&lowered.stages.program, &opts, &options, |_, _| {})
+                .render_live(&lowered.stages.program, &opts, &options, |drawn, _| {
+                    if live_only && matches!(drawn, sdfc_render::Drawn::Interpreted) {
+                        println!(
+                            "{name}: lowered at {}, preview drawn at {}",
+                            ms(lowered_at),
+                            ms(t.elapsed())
+                        );
+                    }
+                })
                 .expect("live render");
             (lowered_at, report)
         };
         let (lowered, now) = live(&now_renderer, Duration::ZERO);
-        let (_, graced) = live(&graced_renderer, Duration::from_millis(250));
         let first = |r: &sdfc_render::LiveReport| {
             let mark = if r.interpreted.is_some() { "" } else { " *" };
             format!("{}{mark}", ms(r.first_pixel()))
         };
+        let Some(specialised) = specialised else {
+            println!(
+                "{name:<16} {:>13} | {:>13} {:>13} {:>13} | (live only: pipeline ready at {})",
+                "-",
+                ms(lowered),
+                first(&now),
+                ms(now.specialised),
+                ms(now.pipeline_ready),
+            );
+            continue;
+        };
+        let (_, graced) = live(&graced_renderer, Duration::from_millis(250));
         println!(
             "{name:<16} {:>13} | {:>13} {:>13} {:>13} | {:>13} {:>13}",
             ms(specialised),

@@ -59,6 +59,9 @@ fn main() {
         let start = std::time::Instant::now();
         r.render(&c, &options()).expect("render");
         let first = start.elapsed();
+        sdfc_tests::warm_up(|| {
+            r.render(&c, &options()).expect("render");
+        });
         let frames = 5;
         let mut device = Duration::ZERO;
         let mut wall = Duration::ZERO;
@@ -126,6 +129,11 @@ fn main() {
             "{name:<16} first interpreted frame (the interpreter's pipeline is built once): {:.3?}",
             start.elapsed()
         );
+        sdfc_tests::warm_up(|| {
+            r.render(&c, &options()).expect("render");
+            r.render_bytecode(c.program(), &code, &options())
+                .expect("render");
+        });
         let frames = 3;
         let (mut spec, mut interp) = (Timing::default(), Timing::default());
         // Interleaved, so a change in the machine's load hits both alike.

@@ -8,7 +8,7 @@
 //! (its shader); `... -- compare SCENE.sdf OTHER.wgsl WxH` renders both.
 
 use sdfc_reference::metrics::percentile;
-use sdfc_render::{Frame, RenderOptions, Renderer};
+use sdfc_render::{RenderOptions, Renderer};
 use std::time::{Duration, Instant};
 
 type Error = Box<dyn std::error::Error>;
@@ -38,42 +38,6 @@ fn emit(n: usize, dir: &str) -> Result<(), Error> {
     Ok(())
 }
 
-/// What one shader measured: the first render (pipeline build included), then the median
-/// device time (timestamp queries, where the device has them) and wall time (submit to
-/// read-back) of five more.
-struct Measured {
-    first: Duration,
-    device: Option<Duration>,
-    wall: Duration,
-    frame: Frame,
-}
-
-fn measure(
-    r: &Renderer,
-    compiled: &sdfc_wgsl::Compiled,
-    wgsl: &str,
-    opts: &RenderOptions,
-) -> Result<Measured, Error> {
-    let start = Instant::now();
-    let frame = r.render_wgsl(compiled.program(), wgsl, opts)?;
-    let first = start.elapsed();
-    let (mut device, mut wall) = (Vec::new(), Vec::new());
-    for _ in 0..5 {
-        let f = r.render_wgsl(compiled.program(), wgsl, opts)?;
-        wall.push(f.wall_time);
-        device.extend(f.device_time);
-    }
-    device.sort();
-    wall.sort();
-    let device = (device.len() == 5).then(|| device[2]);
-    Ok(Measured {
-        first,
-        device,
-        wall: wall[2],
-        frame,
-    })
-}
-
 fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
     let compiled = compile(&std::fs::read_to_string(scene)?)?;
     let other = std::fs::read_to_string(other)?;
@@ -82,21 +46,61 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
     opts.aovs = true;
     let r = Renderer::new()?;
     println!("adapter: {}", r.adapter_description());
-    let mut frames = Vec::new();
     // The other shader first: where the own one is slow to build (a large union on a CPU
     // device), the other's figures are printed before a time limit cuts the run short.
-    for (name, wgsl) in [("other shader", &other), ("own shader", &compiled.wgsl)] {
-        let m = measure(&r, &compiled, wgsl, &opts)?;
-        let steps = m.frame.aovs.as_ref().map_or(0.0, |a| a.mean_steps());
-        let device = m.device.map_or("none".into(), |d| format!("{d:.2?}"));
+    let shaders = [("other shader", &other), ("own shader", &compiled.wgsl)];
+    let mut frames = Vec::new();
+    for (name, wgsl) in shaders {
+        let start = Instant::now();
+        let frame = r.render_wgsl(compiled.program(), wgsl, &opts)?;
+        let steps = frame.aovs.as_ref().map_or(0.0, |a| a.mean_steps());
         println!(
-            "{name}: {} bytes, build and first render {:.2?}; then, median of 5, device time {device}, wall time {:.2?}; {steps:.2} steps per pixel",
+            "{name}: {} bytes, build and first render {:.2?}, {steps:.2} steps per pixel",
             wgsl.len(),
-            m.first,
-            m.wall,
+            start.elapsed(),
         );
-        frames.push(m.frame);
+        frames.push(frame);
     }
+    // Both shaders drawn in turn for a while first (`sdfc_tests::warm_up`), then timed
+    // interleaved frame by frame, so that neither is measured at a clock the other did not have.
+    let mut failed = None;
+    sdfc_tests::warm_up(|| {
+        for (_, wgsl) in shaders {
+            if let Err(e) = r.render_wgsl(compiled.program(), wgsl, &opts) {
+                failed = Some(e);
+            }
+        }
+    });
+    if let Some(e) = failed {
+        return Err(e.into());
+    }
+    const FRAMES: usize = 21;
+    let mut times = [(Vec::new(), Vec::new()), (Vec::new(), Vec::new())];
+    for _ in 0..FRAMES {
+        for ((_, wgsl), (device, wall)) in shaders.iter().zip(&mut times) {
+            let f = r.render_wgsl(compiled.program(), wgsl, &opts)?;
+            wall.push(f.wall_time);
+            device.extend(f.device_time);
+        }
+    }
+    let median = |v: &mut Vec<Duration>| {
+        v.sort();
+        (v.len() == FRAMES).then(|| v[FRAMES / 2])
+    };
+    let mut medians = Vec::new();
+    for ((name, _), (device, wall)) in shaders.iter().zip(&mut times) {
+        let (d, w) = (median(device), median(wall));
+        let shown = d.map_or("none".into(), |d| format!("{d:.2?}"));
+        println!(
+            "{name}: median of {FRAMES} interleaved frames, device time {shown}, wall time {:.2?}",
+            w.unwrap_or_default()
+        );
+        medians.push(d.or(w).unwrap_or_default());
+    }
+    println!(
+        "own / other: {:.2}x",
+        medians[1].as_secs_f64() / medians[0].as_secs_f64().max(1e-12)
+    );
     let (a, b) = (&frames[1], &frames[0]);
     let off = a
         .rgba

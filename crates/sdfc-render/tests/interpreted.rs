@@ -2,8 +2,10 @@
 //! render the same picture up to float rounding. Tolerances: on pixels both call a hit the
 //! depth AOV agrees within 1e-4 relative and the normal within 5e-3 (finite differences
 //! divide the distance's rounding by a step of about 1e-4 t, so a last-bit difference in a
-//! distance moves a central-difference normal by about 1e-3); hit and miss differ on
-//! at most [`SILHOUETTE_PIXELS`] pixels (rays grazing a silhouette); the colour's mean
+//! distance moves a central-difference normal by about 1e-3); at most [`SILHOUETTE_PIXELS`]
+//! pixels flip, and only on the f64 reference's silhouettes (a ray grazing a shape's edge
+//! can hit it in one marcher and pass it in the other, to the background or to a surface
+//! behind: NVIDIA's H200 did the latter on one pixel of the 300-shape grid); the colour's mean
 //! absolute difference over all channels is below 1 (0..255). The interpreter evaluates the
 //! same operations in a different order and through `vec4` registers, and the device may
 //! contract multiply-adds differently in each, so bit equality is not expected.
@@ -18,6 +20,8 @@ const H: u32 = 48;
 const DEPTH_TOLERANCE: f32 = 1e-4;
 const NORMAL_TOLERANCE: f32 = 5e-3;
 const SILHOUETTE_PIXELS: usize = 4;
+/// Hits whose depths differ by more than this (relative) are on different surfaces.
+const OTHER_SURFACE: f32 = 1e-2;
 const MEAN_COLOUR_TOLERANCE: f64 = 1.0;
 
 /// Smooth union of three materials, a param-driven rotation (a symbolic matrix), two kinds
@@ -68,8 +72,9 @@ fn compare(name: &str, compiled: &sdfc_wgsl::Compiled) {
 }
 
 /// As [`compare`], letting `path_sensitive` hit pixels differ beyond the depth and normal
-/// tolerances: with over-relaxed marching a last-bit difference in one distance can flip
-/// the overshoot test, and the ray then settles on another point of the surface band.
+/// tolerances, anywhere: with over-relaxed marching a last-bit difference in one distance can
+/// flip the overshoot test, and the ray then settles on another point of the surface band or
+/// on another surface.
 fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usize) {
     let Some(r) = renderer() else { return };
     let program = compiled.program();
@@ -78,7 +83,8 @@ fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usiz
         .render_interpreted(program, &options(true))
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     let (a, b) = (spec.aovs.as_ref().unwrap(), interp.aovs.as_ref().unwrap());
-    let mut flips = 0;
+    // Hit in one and miss in the other; hit on surfaces apart (depths beyond OTHER_SURFACE).
+    let (mut hit_miss, mut apart) = (Vec::new(), Vec::new());
     let mut hits = 0;
     let mut outliers = 0;
     let mut worst_depth = 0f32;
@@ -86,7 +92,7 @@ fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usiz
     for i in 0..a.depth.len() {
         let (da, db) = (a.depth[i], b.depth[i]);
         if da.is_finite() != db.is_finite() {
-            flips += 1;
+            hit_miss.push(i);
             continue;
         }
         if !da.is_finite() {
@@ -97,20 +103,42 @@ fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usiz
         let normal = (0..3)
             .map(|c| (a.normal[i][c] - b.normal[i][c]).abs())
             .fold(0f32, f32::max);
-        if depth > DEPTH_TOLERANCE || normal > NORMAL_TOLERANCE {
+        if depth > OTHER_SURFACE {
+            apart.push(i);
+        } else if depth > DEPTH_TOLERANCE || normal > NORMAL_TOLERANCE {
             outliers += 1;
-            eprintln!(
-                "{name}: pixel {i}: depth {da} / {db}, normal {:?} / {:?}",
-                a.normal[i], b.normal[i]
-            );
+        } else {
+            worst_depth = worst_depth.max(depth);
+            worst_normal = worst_normal.max(normal);
             continue;
         }
-        worst_depth = worst_depth.max(depth);
-        worst_normal = worst_normal.max(normal);
+        eprintln!(
+            "{name}: pixel {i}: depth {da} / {db}, normal {:?} / {:?}",
+            a.normal[i], b.normal[i]
+        );
+    }
+    // Where the scene is path-sensitive, hits on surfaces apart are among its allowance.
+    // Elsewhere they are flips, like hit/miss ones: a ray grazing an edge hits it in one
+    // marcher and passes it in the other, to the background or to a surface behind. Every
+    // flip must be on a silhouette of the reference.
+    if path_sensitive > 0 {
+        outliers += apart.len();
+        apart.clear();
+    }
+    let flipped: Vec<usize> = hit_miss.into_iter().chain(apart).collect();
+    let flips = flipped.len();
+    if flips > 0 {
+        let edge = silhouettes(program);
+        for i in flipped {
+            assert!(
+                edge(i),
+                "{name}: pixel {i} flips, off the reference's silhouettes"
+            );
+        }
     }
     let colour = mean_colour_difference(&spec, &interp);
     eprintln!(
-        "{name}: {hits} hit pixels, {flips} hit/miss flips, {outliers} path-sensitive pixels, \
+        "{name}: {hits} hit pixels, {flips} flips, {outliers} path-sensitive pixels, \
          worst relative depth difference of the rest \
          {worst_depth:e}, worst normal difference {worst_normal:e}, mean colour difference \
          {colour:.4}/255"
@@ -121,7 +149,7 @@ fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usiz
     );
     assert!(
         flips <= SILHOUETTE_PIXELS,
-        "{name}: {flips} pixels flip between hit and miss"
+        "{name}: {flips} pixels flip between hit and miss or between surfaces"
     );
     assert!(
         outliers <= path_sensitive,
@@ -139,6 +167,19 @@ fn compare_with(name: &str, compiled: &sdfc_wgsl::Compiled, path_sensitive: usiz
         colour < MEAN_COLOUR_TOLERANCE,
         "{name}: mean colour difference {colour}/255"
     );
+}
+
+/// Whether a pixel (by index) lies on a silhouette of the f64 reference: its 3x3
+/// neighbourhood there holds both hits and misses.
+fn silhouettes(program: &sdfc_wgsl::Program) -> impl Fn(usize) -> bool {
+    let reference = sdfc_reference::render(
+        program,
+        &sdfc_reference::Options {
+            time: options(false).time as f64,
+            ..sdfc_reference::Options::sized(W, H)
+        },
+    );
+    move |i| sdfc_reference::metrics::is_silhouette(&reference, i as u32 % W, i as u32 / W)
 }
 
 fn mean_colour_difference(a: &Frame, b: &Frame) -> f64 {

@@ -92,20 +92,30 @@ step() {
     local name="$1" limit="$2"
     shift 2
     local start=$SECONDS
-    timeout "$limit" "$@" >"$logs/$name" 2>&1
+    # The running step's log is under $out itself, so that a call cut short in it (the
+    # 5 000-shape union's build outlasts any) still brings back what it printed.
+    timeout "$limit" "$@" >"$out/running-$name" 2>&1
     local rc=$?
     local how="ok"
     [ "$rc" -eq 124 ] && how="timed out after ${limit}s"
     [ "$rc" -ne 0 ] && [ "$rc" -ne 124 ] && how="failed (exit $rc)"
+    [ "$rc" -ne 0 ] && failures=$((failures + 1))
     echo "$name: $how, $((SECONDS - start)) s" | tee -a "$out/summary.txt"
-    tar -cf "$out/logs.tar" -C "$logs" .
+    mv "$out/running-$name" "$logs/$name"
+    # Written beside and renamed over, so that a call cut short here leaves a whole archive.
+    tar -cf "$out/logs.tar.part" -C "$logs" . && mv "$out/logs.tar.part" "$out/logs.tar"
+}
+
+# Says in the summary why a measurement did not run.
+skipped() {
+    echo "$1: skipped, $2" | tee -a "$out/summary.txt"
 }
 
 # The render tests carried in .gpu/tests.tar.xz, each binary in turn (those named in
 # SDFC_GPU_TESTS, else all), each with its own limit; CI=1 makes a test that finds no device
 # fail instead of skipping.
 render_tests() {
-    local t dir
+    local t dir rc failed=""
     dir="$(mktemp -d)"
     tar -xJf .gpu/tests.tar.xz -C "$dir"
     for t in "$dir"/tests/*; do
@@ -113,9 +123,16 @@ render_tests() {
             continue
         fi
         echo "== $(basename "$t")"
-        CI=1 timeout "${SDFC_GPU_TEST_LIMIT:-60}" "$t" --test-threads 8 ${SDFC_GPU_TEST_ARGS:-} 2>&1 | grep -v '^test .* ok$'
-        echo "== $(basename "$t"): exit ${PIPESTATUS[0]} (124: out of time)"
+        # --foreground keeps the binary in this step's process group, so that the step's
+        # own limit ends it too rather than leaving it on the device beside the next step.
+        # shellcheck disable=SC2086 # SDFC_GPU_TEST_ARGS is split into arguments on purpose
+        CI=1 timeout --foreground "${SDFC_GPU_TEST_LIMIT:-60}" "$t" --test-threads 8 ${SDFC_GPU_TEST_ARGS:-} 2>&1 | grep -v '^test .* ok$'
+        rc=${PIPESTATUS[0]}
+        echo "== $(basename "$t"): exit $rc (124: out of time)"
+        [ "$rc" -ne 0 ] && failed="$failed $(basename "$t")"
     done
+    rm -rf "$dir"
+    [ -z "$failed" ] || { echo "failed:$failed"; return 1; }
 }
 
 # Loaders and driver files, where the test binaries look for the repository, and $out/$logs.
@@ -148,7 +165,8 @@ setup() {
 measure() {
     local quick="${SDFC_GPU_QUICK:-}" c=.gpu/compare_shader
     case "$1" in
-        gpu) command -v nvidia-smi >/dev/null && step gpu.txt 15 nvidia-smi ;;
+        gpu)
+            if command -v nvidia-smi >/dev/null; then step gpu.txt 15 nvidia-smi; else skipped gpu "no nvidia-smi"; fi ;;
         # The first render names the adapter; every later figure is on it.
         adapter) step adapter.txt 40 .gpu/sdfc render examples/spec_section10.sdf -o "$logs/spec_section10.png" --size "$size" ;;
         render) step render.log 90 .gpu/render none ;;
@@ -162,10 +180,25 @@ measure() {
         first_pixel) SDFC_BENCH_5000=0 step first_pixel.log 60 .gpu/first_pixel ;;
         # The 5 000-shape union's live path alone: its preview is printed as soon as it is
         # drawn, before the driver's build of the specialised pipeline, which can take minutes.
-        first_pixel_5000) [ -z "$quick" ] && SDFC_BENCH_SCENES=grid_5000 SDFC_BENCH_LIVE_ONLY=1 step first_pixel_5000.log "${SDFC_GPU_5000_LIMIT:-240}" .gpu/first_pixel ;;
-        render_tests) [ -f .gpu/tests.tar.xz ] && step render_tests.log 150 bash -c render_tests ;;
+        first_pixel_5000)
+            if [ -n "$quick" ]; then
+                skipped first_pixel_5000 "quick run"
+            else
+                SDFC_BENCH_SCENES=grid_5000 SDFC_BENCH_LIVE_ONLY=1 step first_pixel_5000.log "${SDFC_GPU_5000_LIMIT:-240}" .gpu/first_pixel
+            fi ;;
+        render_tests)
+            if [ -f .gpu/tests.tar.xz ]; then
+                step render_tests.log 150 bash -c render_tests
+            else
+                skipped render_tests "no .gpu/tests.tar.xz"
+            fi ;;
         tables_300) step tables_300.log 30 $c compare .gpu/grid300.sdf .gpu/grid300-tables.wgsl "$size" ;;
-        tables_5000) [ -z "$quick" ] && step tables_5000.log 60 $c compare .gpu/grid5000.sdf .gpu/grid5000-tables.wgsl "$size" ;;
+        tables_5000)
+            if [ -n "$quick" ]; then
+                skipped tables_5000 "quick run"
+            else
+                step tables_5000.log 60 $c compare .gpu/grid5000.sdf .gpu/grid5000-tables.wgsl "$size"
+            fi ;;
         benches)
             # The quick run leaves out three of the four scenes.
             local s scenes="spec_section10 terrain fractals ribbed_sphere"
@@ -173,21 +206,29 @@ measure() {
             for s in $scenes; do
                 step "bench_$s.md" 30 .gpu/sdfc bench "examples/$s.sdf" --size 320x240 --runs 5 --markdown
             done ;;
-        *) echo "no measurement $1" >&2; exit 2 ;;
     esac
 }
 
-# All measurements, the slowest (the 5 000-shape union's) last.
+# All measurements, the slowest (the 5 000-shape union's) last. Their limits add up to about
+# 15 minutes, more than one call may take; on the H200 all but the last two took about four
+# minutes, and first_pixel_5000 is cut short by design (its preview line comes first).
 ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 benches tables_5000 first_pixel_5000"
 
+# Runs the measurements; exits 1 if any failed or ran out of time (summary.txt says which).
 run() {
     size="${1:-640x480}"
+    local m
+    # Every name is checked before any device time is spent.
+    for m in ${SDFC_GPU_ONLY:-$ALL}; do
+        [[ " $ALL " == *" $m "* ]] || { echo "no measurement $m (there are: $ALL)" >&2; exit 2; }
+    done
     setup
     export SDFC_BENCH_SIZE="$size"
-    local m
+    failures=0
     for m in ${SDFC_GPU_ONLY:-$ALL}; do
         measure "$m"
     done
+    [ "$failures" -eq 0 ]
 }
 
 case "${1:-}" in

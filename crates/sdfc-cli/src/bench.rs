@@ -193,8 +193,9 @@ pub fn run(a: Args) -> Outcome {
     let reference = crate::compare::reference(program, &overrides, a.size, 0.0);
     progress.inc(1);
 
-    // Every setting's pipeline is built, and its first frame drawn, before any is timed.
-    let mut built = Vec::new();
+    // Every setting's pipeline is built, and its first frame drawn and measured against the
+    // reference (its row, but for the time), before any is timed; the frames are not kept.
+    let (mut built, mut rows) = (Vec::new(), Vec::new());
     for setting in &sweep {
         progress.set_message(setting.name.clone());
         let mut variant = program.clone();
@@ -222,15 +223,17 @@ pub fn run(a: Args) -> Outcome {
                 }
             }
         }
-        built.push((variant, wgsl, frame));
+        rows.push(row(setting, Duration::ZERO, &frame, &reference));
+        built.push((variant, wgsl));
         progress.inc(1);
     }
     // Then timed frame by frame in turn, after WARM_UP of the same: a GPU idles at a fraction
     // of its clock while pipelines build and takes a while to raise it, so settings timed one
-    // after another were measured at different clocks (on an NVIDIA H200 the same shader took
-    // 0.08 ms early in a sweep and 0.36 ms later in it).
+    // after another were measured at different clocks (on an NVIDIA H200 the ribbed sphere
+    // took 0.08 ms a frame under its own settings early in a sweep, and 0.36 ms under
+    // `max_steps: 512` later in it, with the same steps).
     progress.set_message("timing");
-    let draw = |(variant, wgsl, _): &(Program, String, Frame)| {
+    let draw = |(variant, wgsl): &(Program, String)| {
         renderer
             .render_wgsl(variant, wgsl, &opts)
             .map(|f| f.device_time.unwrap_or(f.wall_time))
@@ -253,10 +256,9 @@ pub fn run(a: Args) -> Outcome {
             }
         }
     }
-    let mut rows = Vec::new();
-    for ((setting, (_, _, frame)), mut t) in sweep.iter().zip(&built).zip(times) {
+    for (row, mut t) in rows.iter_mut().zip(times) {
         t.sort();
-        rows.push(row(setting, t[t.len() / 2], frame, &reference));
+        row.time = t[t.len() / 2];
     }
     progress.finish_and_clear();
     mark_pareto(&mut rows);

@@ -98,7 +98,7 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
         medians.push(d.or(w).unwrap_or_default());
     }
     println!(
-        "own / other: {:.2}x",
+        "own time / other time: {:.2}x",
         medians[1].as_secs_f64() / medians[0].as_secs_f64().max(1e-12)
     );
     let (a, b) = (&frames[1], &frames[0]);

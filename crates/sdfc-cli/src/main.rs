@@ -11,6 +11,7 @@ mod out;
 mod plot;
 mod render;
 mod report;
+mod slow_note;
 mod watch;
 
 use clap::{Parser, Subcommand};

@@ -341,7 +341,7 @@ pub fn run(a: Args) -> Outcome {
         }
         renderer.render_interpreted(compiled.program(), &opts)
     } else {
-        renderer.render(&compiled, &opts)
+        crate::slow_note::unless_quick(|| renderer.render(&compiled, &opts))
     };
     let frame = match frame {
         Ok(f) => f,

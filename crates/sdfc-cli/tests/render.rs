@@ -1055,3 +1055,33 @@ fn watch_renders_each_change_and_keeps_the_picture_through_a_mistake() {
     assert!(!text.contains("panicked"), "{text}");
     assert!(!text.contains("panicked"), "{text}");
 }
+
+/// A render that outlasts a few seconds says why it may take long and what to do instead
+/// (`SDFC_NOTE_AFTER_MS=0`: at once); the interpreted marcher, which builds no pipeline for the
+/// scene, does not.
+#[test]
+fn a_slow_render_says_why_and_what_to_do_instead() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("slow-note");
+    let scene = t.write("s.sdf", SPHERE);
+    let out = t.path("s.png");
+    let at_once = [("SDFC_NOTE_AFTER_MS", "0")];
+    let args = ["render", s(&scene), "-o", s(&out), "--size", "8x8"];
+    let run = sdfc_env(&t.0, &args, &at_once).expect_code(0);
+    for part in ["still rendering", "pipeline", "--live", "--interpreted"] {
+        assert!(
+            run.stderr.contains(part),
+            "no `{part}`:\n{}",
+            run.describe()
+        );
+    }
+    let interpreted = [&args[..], &["--interpreted"]].concat();
+    let run = sdfc_env(&t.0, &interpreted, &at_once).expect_code(0);
+    assert!(
+        !run.stderr.contains("still rendering"),
+        "{}",
+        run.describe()
+    );
+}

@@ -23,7 +23,7 @@
 #
 # `scripts/gpu-bench.sh run` works on any machine with a wgpu device (lavapipe too, slowly),
 # so it can be tried here before device time is spent: `SDFC_GPU_QUICK=1` shortens it, and
-# `SDFC_GPU_TEST_LIMIT=5` cuts each test binary short.
+# `SDFC_GPU_TEST_LIMIT=5` cuts each test binary short (those cut count as failed).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 

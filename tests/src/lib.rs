@@ -195,16 +195,17 @@ pub fn suite_scene(name: &str) -> String {
 /// How long [`warm_up`] draws.
 pub const WARM_UP: std::time::Duration = std::time::Duration::from_millis(500);
 
-/// Calls `draw` (at least once) until [`WARM_UP`] has passed, before a bench times frames: a
+/// Calls `draw` (at least once) until [`WARM_UP`] has passed or it fails, before a bench
+/// times frames: a
 /// GPU idles at a fraction of its clock while pipelines build, and a few frames of a
 /// millisecond do not wake it (on an NVIDIA H200 the ribbed sphere took 0.08 ms a frame early
 /// in a sweep and 0.36 ms later in it, after builds, under settings with the same steps).
-pub fn warm_up(mut draw: impl FnMut()) {
+pub fn warm_up<E>(mut draw: impl FnMut() -> Result<(), E>) -> Result<(), E> {
     let start = std::time::Instant::now();
     loop {
-        draw();
+        draw()?;
         if start.elapsed() >= WARM_UP {
-            break;
+            return Ok(());
         }
     }
 }

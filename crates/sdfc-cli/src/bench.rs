@@ -233,32 +233,15 @@ pub fn run(a: Args) -> Outcome {
     // took 0.08 ms a frame under its own settings early in a sweep, and 0.36 ms under
     // `max_steps: 512` later in it, with the same steps).
     progress.set_message("timing");
-    let draw = |(variant, wgsl): &(Program, String)| {
-        renderer
-            .render_wgsl(variant, wgsl, &opts)
-            .map(|f| f.device_time.unwrap_or(f.wall_time))
+    let medians = match timed_in_turn(&renderer, &built, &opts, a.runs as usize) {
+        Ok(m) => m,
+        Err(e) => {
+            progress.finish_and_clear();
+            return render_failure(&e);
+        }
     };
-    let mut times = vec![Vec::new(); built.len()];
-    let warm = std::time::Instant::now();
-    for run in 0.. {
-        let timed = run >= 1 && warm.elapsed() >= WARM_UP;
-        if timed && times[0].len() == a.runs as usize {
-            break;
-        }
-        for (b, t) in built.iter().zip(&mut times) {
-            match draw(b) {
-                Ok(d) if timed => t.push(d),
-                Ok(_) => {}
-                Err(e) => {
-                    progress.finish_and_clear();
-                    return render_failure(&e);
-                }
-            }
-        }
-    }
-    for (row, mut t) in rows.iter_mut().zip(times) {
-        t.sort();
-        row.time = t[t.len() / 2];
+    for (row, time) in rows.iter_mut().zip(medians) {
+        row.time = time;
     }
     progress.finish_and_clear();
     mark_pareto(&mut rows);
@@ -305,6 +288,43 @@ pub fn run(a: Args) -> Outcome {
         }
     }
     Outcome::Ok
+}
+
+/// The median time of `runs` frames of each shader, drawn in turn after [`WARM_UP`] of the
+/// same (each drawn at least once).
+fn timed_in_turn(
+    renderer: &sdfc_render::Renderer,
+    shaders: &[(Program, String)],
+    opts: &RenderOptions,
+    runs: usize,
+) -> Result<Vec<Duration>, sdfc_render::RenderError> {
+    let draw = |(program, wgsl): &(Program, String)| {
+        renderer
+            .render_wgsl(program, wgsl, opts)
+            .map(|f| f.device_time.unwrap_or(f.wall_time))
+    };
+    let start = std::time::Instant::now();
+    loop {
+        for s in shaders {
+            draw(s)?;
+        }
+        if start.elapsed() >= WARM_UP {
+            break;
+        }
+    }
+    let mut times = vec![Vec::with_capacity(runs); shaders.len()];
+    for _ in 0..runs {
+        for (s, t) in shaders.iter().zip(&mut times) {
+            t.push(draw(s)?);
+        }
+    }
+    Ok(times
+        .into_iter()
+        .map(|mut t| {
+            t.sort();
+            t[t.len() / 2]
+        })
+        .collect())
 }
 
 fn row(setting: &Setting, time: Duration, frame: &Frame, reference: &sdfc_reference::Image) -> Row {

@@ -39,18 +39,15 @@ fn options() -> RenderOptions {
 fn times(a: &Compiled, b: &Compiled) -> (Duration, Duration) {
     let r = renderer();
     let draw = |c: &Compiled| {
-        let f = r.render(c, &options()).expect("render");
-        f.device_time.unwrap_or(f.wall_time)
+        let f = r.render(c, &options())?;
+        Ok::<_, sdfc_render::RenderError>(f.device_time.unwrap_or(f.wall_time))
     };
-    sdfc_tests::warm_up(|| {
-        draw(a);
-        draw(b);
-    });
+    sdfc_tests::warm_up(|| draw(a).and(draw(b)).map(drop)).expect("render");
     let frames = 5;
     let (mut ta, mut tb) = (Duration::ZERO, Duration::ZERO);
     for _ in 0..frames {
-        ta += draw(a);
-        tb += draw(b);
+        ta += draw(a).expect("render");
+        tb += draw(b).expect("render");
     }
     (ta / frames, tb / frames)
 }

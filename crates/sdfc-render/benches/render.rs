@@ -59,9 +59,7 @@ fn main() {
         let start = std::time::Instant::now();
         r.render(&c, &options()).expect("render");
         let first = start.elapsed();
-        sdfc_tests::warm_up(|| {
-            r.render(&c, &options()).expect("render");
-        });
+        sdfc_tests::warm_up(|| r.render(&c, &options()).map(drop)).expect("render");
         let frames = 5;
         let mut device = Duration::ZERO;
         let mut wall = Duration::ZERO;
@@ -130,10 +128,10 @@ fn main() {
             start.elapsed()
         );
         sdfc_tests::warm_up(|| {
-            r.render(&c, &options()).expect("render");
-            r.render_bytecode(c.program(), &code, &options())
-                .expect("render");
-        });
+            r.render(&c, &options())?;
+            r.render_bytecode(c.program(), &code, &options()).map(drop)
+        })
+        .expect("render");
         let frames = 3;
         let (mut spec, mut interp) = (Timing::default(), Timing::default());
         // Interleaved, so a change in the machine's load hits both alike.

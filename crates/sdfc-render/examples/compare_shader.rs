@@ -63,17 +63,12 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
     }
     // Both shaders drawn in turn for a while first (`sdfc_tests::warm_up`), then timed
     // interleaved frame by frame, so that neither is measured at a clock the other did not have.
-    let mut failed = None;
     sdfc_tests::warm_up(|| {
         for (_, wgsl) in shaders {
-            if let Err(e) = r.render_wgsl(compiled.program(), wgsl, &opts) {
-                failed = Some(e);
-            }
+            r.render_wgsl(compiled.program(), wgsl, &opts)?;
         }
-    });
-    if let Some(e) = failed {
-        return Err(e.into());
-    }
+        Ok::<_, sdfc_render::RenderError>(())
+    })?;
     const FRAMES: usize = 21;
     let mut times = [(Vec::new(), Vec::new()), (Vec::new(), Vec::new())];
     for _ in 0..FRAMES {

@@ -145,11 +145,11 @@ pub fn compile(source: &str, opts: &Options) -> Result<Compiled, Failure> {
 
 /// As [`compile`], on the calling thread's stack.
 pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
-    opts.check().map_err(Failure::Usage)?;
+    // `lower_here` checks the options.
     let Lowered {
         stages, warnings, ..
     } = lower_here(source, opts)?;
-    let wgsl = emit_validated(&stages.program, opts)?;
+    let wgsl = emit_checked(&stages.program, opts)?;
     Ok(Compiled {
         wgsl,
         stages,
@@ -285,6 +285,11 @@ fn joined<T>(handle: std::thread::ScopedJoinHandle<'_, Result<T, Failure>>) -> R
 /// Emits and validates; the import-path line (not WGSL) is added after validation.
 pub fn emit_validated(program: &Program, opts: &Options) -> Result<String, Failure> {
     opts.check().map_err(Failure::Usage)?;
+    emit_checked(program, opts)
+}
+
+/// [`emit_validated`] with options already checked.
+fn emit_checked(program: &Program, opts: &Options) -> Result<String, Failure> {
     let wgsl = module::emit(program, opts.lib);
     if let Err(report) = validate::validate("scene.wgsl", &wgsl) {
         return Err(Failure::Internal { report, wgsl });

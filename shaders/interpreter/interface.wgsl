@@ -1,4 +1,4 @@
-// The interpreter's inputs: one Frame uniform with the image, the camera and the render
+// The interpreter's inputs: one Frame buffer with the image, the camera and the render
 // settings (the specialised shader's compile-time constants, here runtime values), the
 // bytecode, and a data buffer of lights, params and constants.
 struct Frame {
@@ -47,14 +47,14 @@ struct Frame {
     bounds_at: u32,
 }
 
-@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(0) var<storage, read> frame: Frame;
 @group(0) @binding(1) var<storage, read_write> color_out: array<u32>;
 @group(0) @binding(2) var<storage, read_write> aov_out: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> code: array<vec4<u32>>;
 @group(0) @binding(4) var<storage, read> data: array<vec4<f32>>;
 
 // The specialised shader's entry point calls this to load its inputs; here the settings
-// stay in the uniform, which the shared parts read directly (see `interp::runtime`).
+// stay in the Frame buffer, which the shared parts read directly (see `interp::runtime`).
 fn load_frame() {
 }
 

@@ -155,7 +155,8 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
-/// The bindings: uniform, storage (read-only where `read_only_input`), read-write storage,
+/// The bindings: the frame (read-only storage: lavapipe recompiles a shader at each new
+/// value of a uniform its branches read; docs/performance.md), storage (read-only where `read_only_input`), read-write storage,
 /// and `extra_inputs` more read-only storage buffers.
 fn layouts(
     device: &wgpu::Device,
@@ -163,7 +164,7 @@ fn layouts(
     extra_inputs: u32,
 ) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
     let mut entries = vec![
-        buffer_entry(0, wgpu::BufferBindingType::Uniform),
+        buffer_entry(0, wgpu::BufferBindingType::Storage { read_only: true }),
         buffer_entry(
             1,
             wgpu::BufferBindingType::Storage {

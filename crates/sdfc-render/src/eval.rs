@@ -39,11 +39,11 @@ impl Renderer {
         for chunk in points.chunks(batch) {
             let scopes = Scopes::push(&self.device);
             let count = chunk.len() as u64;
-            let uniform = upload(
+            let frame = upload(
                 self,
                 "sdfc eval frame",
-                &params::uniform_bytes([chunk.len() as u32, time.to_bits(), 0, 0], &values),
-                wgpu::BufferUsages::UNIFORM,
+                &params::frame_bytes([chunk.len() as u32, time.to_bits(), 0, 0], &values),
+                wgpu::BufferUsages::STORAGE,
             );
             let mut point_bytes = Vec::with_capacity(chunk.len() * POINT_BYTES as usize);
             for p in chunk {
@@ -65,7 +65,7 @@ impl Renderer {
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
-                        resource: uniform.as_entire_binding(),
+                        resource: frame.as_entire_binding(),
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,

@@ -149,7 +149,7 @@ impl Renderer {
         let mut frame = self.dispatch(
             &pipeline.pipeline,
             &self.interp_bind_layout,
-            &data.uniform,
+            &data.frame,
             &[
                 ("sdfc bytecode", &data.code),
                 ("sdfc scene data", &data.data),

@@ -39,7 +39,7 @@
 //! # What a render does
 //!
 //! The shader interface is the one documented in `sdfc_wgsl` (entry point `main`, 8x8
-//! workgroups, the `Frame` uniform, packed RGBA8 colour, two `vec4` of AOVs per pixel). Compute
+//! workgroups, the `Frame` buffer, packed RGBA8 colour, two `vec4` of AOVs per pixel). Compute
 //! pipelines are cached by a hash of the WGSL text (and checked against the text itself), so
 //! rendering the same scene again, at another size or time or with other param values, never
 //! compiles it again ([`Renderer::pipeline_compilations`] counts the compilations). Every

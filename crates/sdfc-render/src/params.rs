@@ -1,4 +1,4 @@
-//! The per-frame uniform: a 16-byte header and one `vec4<f32>` per param.
+//! The per-frame inputs (binding 0, read-only storage): a 16-byte header and one `vec4<f32>` per param.
 
 use crate::RenderError;
 use sdfc_ir::Program;
@@ -52,8 +52,8 @@ pub(crate) fn values(
     Ok(out)
 }
 
-/// The uniform's bytes: the header words, then the params.
-pub(crate) fn uniform_bytes(header: [u32; 4], params: &[[f32; 4]]) -> Vec<u8> {
+/// The frame buffer's bytes: the header words, then the params.
+pub(crate) fn frame_bytes(header: [u32; 4], params: &[[f32; 4]]) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(16 + 16 * params.len());
     for w in header {
         bytes.extend_from_slice(&w.to_le_bytes());

@@ -12,9 +12,9 @@ use std::sync::{Arc, Mutex};
 /// Which of the two shader interfaces a pipeline follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) enum Kind {
-    /// The render shader: entry `main`, uniform + two read-write storage buffers.
+    /// The render shader: entry `main`, the read-only frame + two read-write storage buffers.
     Render,
-    /// The point-evaluation shader: entry `eval_main`, uniform + read-only + read-write.
+    /// The point-evaluation shader: entry `eval_main`, the read-only frame + read-only points + read-write.
     Eval,
     /// The interpreted marcher: the render interface plus the read-only bytecode and data.
     Interpreted,

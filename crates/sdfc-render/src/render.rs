@@ -1,4 +1,4 @@
-//! One frame: uniform, dispatch, readback.
+//! One frame: frame buffer, dispatch, readback.
 
 use crate::device::{Renderer, Scopes};
 use crate::pipelines::Kind;
@@ -134,11 +134,11 @@ impl Renderer {
         self.check_health()?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
         let pipeline = self.pipeline(Kind::Render, wgsl)?;
-        let uniform = params::uniform_bytes(header(opts), &params);
+        let frame = params::frame_bytes(header(opts), &params);
         self.dispatch(
             &pipeline.pipeline,
             &self.render_bind_layout,
-            &uniform,
+            &frame,
             &[],
             opts,
             (gx, gy),
@@ -146,13 +146,13 @@ impl Renderer {
     }
 
     /// Runs a render-interface pipeline over the image and reads the results back: the
-    /// uniform at binding 0, colour and AOVs at 1 and 2, `inputs` (read-only storage) from
+    /// frame buffer at binding 0 (read-only storage), colour and AOVs at 1 and 2, `inputs` (read-only storage) from
     /// binding 3 on.
     pub(crate) fn dispatch(
         &self,
         pipeline: &wgpu::ComputePipeline,
         layout: &wgpu::BindGroupLayout,
-        uniform_bytes: &[u8],
+        frame_bytes: &[u8],
         inputs: &[(&str, &[u8])],
         opts: &RenderOptions,
         (gx, gy): (u32, u32),
@@ -164,12 +164,7 @@ impl Renderer {
         let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
 
         let scopes = Scopes::push(&self.device);
-        let uniform = upload(
-            self,
-            "sdfc frame",
-            uniform_bytes,
-            wgpu::BufferUsages::UNIFORM,
-        );
+        let frame = upload(self, "sdfc frame", frame_bytes, wgpu::BufferUsages::STORAGE);
         let input_buffers: Vec<wgpu::Buffer> = inputs
             .iter()
             .map(|(label, bytes)| upload(self, label, bytes, wgpu::BufferUsages::STORAGE))
@@ -184,7 +179,7 @@ impl Renderer {
         let mut entries = vec![
             wgpu::BindGroupEntry {
                 binding: 0,
-                resource: uniform.as_entire_binding(),
+                resource: frame.as_entire_binding(),
             },
             wgpu::BindGroupEntry {
                 binding: 1,
@@ -338,7 +333,7 @@ pub(crate) fn read_bytes(buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> 
     Ok(bytes)
 }
 
-/// The uniform header both render interfaces start with: size, time, flags (bit 0: AOVs).
+/// The frame header both render interfaces start with: size, time, flags (bit 0: AOVs).
 pub(crate) fn header(opts: &RenderOptions) -> [u32; 4] {
     [
         opts.width,

@@ -3,7 +3,7 @@
 //!
 //! Interface: entry point `eval_main`, `@workgroup_size(64)`; dispatch `ceil(count / 64)`
 //! workgroups in x (at most 65 535 per dispatch: evaluate larger sets in batches).
-//! - `@group(0) @binding(0) var<uniform> eval_frame: EvalFrame` with
+//! - `@group(0) @binding(0) var<storage, read> eval_frame: EvalFrame` with
 //!   `struct EvalFrame { count: u32, time: f32, pad0: u32, pad1: u32, params: array<vec4<f32>, N> }`
 //!   (16 + 16 N bytes; `params` as in the render shader's `Frame`, absent without params).
 //! - `@group(0) @binding(1) var<storage, read> eval_points: array<vec4<f32>>`: xyz per point.
@@ -34,7 +34,7 @@ pub fn eval_shader(program: &Program) -> Result<String, Failure> {
         let _ = writeln!(s, "    params: array<vec4<f32>, {n}>,");
     }
     s += "}\n\n";
-    s += "@group(0) @binding(0) var<uniform> eval_frame: EvalFrame;\n";
+    s += "@group(0) @binding(0) var<storage, read> eval_frame: EvalFrame;\n";
     s += "@group(0) @binding(1) var<storage, read> eval_points: array<vec4<f32>>;\n";
     s += "@group(0) @binding(2) var<storage, read_write> eval_out: array<f32>;\n\n";
     s += "@compute @workgroup_size(64, 1, 1)\nfn eval_main(@builtin(global_invocation_id) gid: vec3<u32>) {\n";

@@ -8,7 +8,7 @@
 //! - Entry point `main`, `@compute @workgroup_size(8, 8, 1)`; dispatch
 //!   `ceil(width / 8) x ceil(height / 8) x 1`. Invocation `(x, y)` shades pixel column `x`,
 //!   row `y` (row 0 at the top); invocations outside the image return at once.
-//! - `@group(0) @binding(0) var<uniform> frame: Frame` with
+//! - `@group(0) @binding(0) var<storage, read> frame: Frame` with
 //!   `struct Frame { resolution: vec2<u32>, time: f32, flags: u32, params: array<vec4<f32>, N> }`
 //!   (16 + 16 N bytes; `params` is absent when the scene has no `param`). Param `i` (declaration
 //!   order) sits in `params[i]`: a float in `.x`, a vec2 in `.xy`, a vec3 in `.xyz`.

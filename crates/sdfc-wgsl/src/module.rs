@@ -56,13 +56,15 @@ pub fn emit(p: &Program, lib: bool) -> String {
     }
     s += "\n";
     if !lib {
-        s += "// Per-frame uniforms; `params` holds the scene's `param`s in declaration order, one vec4 each.\n";
+        s += "// Per-frame inputs; `params` holds the scene's `param`s in declaration order, one vec4 each.\n";
+        s += "// A read-only storage buffer, not a uniform: Mesa's lavapipe recompiles a shader whose\n";
+        s += "// branches read a uniform with each new value (docs/performance.md).\n";
         s += "struct Frame {\n    resolution: vec2<u32>,\n    time: f32,\n    flags: u32,\n";
         if n_params > 0 {
             let _ = writeln!(s, "    params: array<vec4<f32>, {n_params}>,");
         }
         s += "}\n\n";
-        s += "@group(0) @binding(0) var<uniform> frame: Frame;\n";
+        s += "@group(0) @binding(0) var<storage, read> frame: Frame;\n";
         s += "@group(0) @binding(1) var<storage, read_write> color_out: array<u32>;\n";
         s += "@group(0) @binding(2) var<storage, read_write> aov_out: array<vec4<f32>>;\n\n";
     }

@@ -1,5 +1,5 @@
 //! The interpreter's per-frame inputs, laid out as `shaders/interpreter/interface.wgsl`
-//! declares them: the `Frame` uniform (image, time, camera, render settings, where things
+//! declares them: the `Frame` buffer (image, time, camera, render settings, where things
 //! sit in the data buffer) and the data buffer (lights, params, the scene's bounds,
 //! constants).
 
@@ -9,7 +9,7 @@ use sdfc_ir::scene::{Epsilon, LightKind, Normals, RenderSettings, Shadows};
 use sdfc_ir::types::Ty;
 use sdfc_ir::Program;
 
-/// Bytes of the `Frame` uniform.
+/// Bytes of the `Frame` buffer.
 pub const FRAME_BYTES: usize = 192;
 
 /// `Frame.switches` bit: `epsilon: pixel` (else the absolute `Frame.epsilon`).
@@ -19,8 +19,8 @@ const SWITCH_FOG: u32 = 2;
 
 /// Both buffers of one frame.
 pub struct FrameData {
-    /// The `Frame` uniform, [`FRAME_BYTES`] long.
-    pub uniform: Vec<u8>,
+    /// The `Frame` buffer (read-only storage), [`FRAME_BYTES`] long.
+    pub frame: Vec<u8>,
     /// The `data` storage buffer: `array<vec4<f32>>`.
     pub data: Vec<u8>,
     /// The `code` storage buffer: `array<vec4<u32>>`.
@@ -200,7 +200,7 @@ pub fn frame_data_with(
         .flat_map(|x| x.to_le_bytes())
         .collect();
     FrameData {
-        uniform: w.0,
+        frame: w.0,
         data: data_bytes,
         code: code_bytes,
     }

@@ -155,9 +155,10 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
-/// The bindings: the frame (read-only storage: lavapipe recompiles a shader at each new
-/// value of a uniform its branches read; docs/performance.md), storage (read-only where `read_only_input`), read-write storage,
-/// and `extra_inputs` more read-only storage buffers.
+/// The bindings: the frame, storage (read-only where `read_only_input`), read-write storage,
+/// and `extra_inputs` more read-only storage buffers. The frame is read-only storage, not a
+/// uniform: lavapipe compiles a shader again at each new value of a uniform its branches
+/// read (docs/performance.md).
 fn layouts(
     device: &wgpu::Device,
     read_only_input: bool,

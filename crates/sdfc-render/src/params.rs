@@ -1,4 +1,5 @@
-//! The per-frame inputs (binding 0, read-only storage): a 16-byte header and one `vec4<f32>` per param.
+//! The per-frame inputs (binding 0, read-only storage): a 16-byte header and one `vec4<f32>`
+//! per param.
 
 use crate::RenderError;
 use sdfc_ir::Program;

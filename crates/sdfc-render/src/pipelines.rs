@@ -14,7 +14,8 @@ use std::sync::{Arc, Mutex};
 pub(crate) enum Kind {
     /// The render shader: entry `main`, the read-only frame + two read-write storage buffers.
     Render,
-    /// The point-evaluation shader: entry `eval_main`, the read-only frame + read-only points + read-write.
+    /// The point-evaluation shader: entry `eval_main`, the read-only frame, the read-only
+    /// points and the read-write distances.
     Eval,
     /// The interpreted marcher: the render interface plus the read-only bytecode and data.
     Interpreted,

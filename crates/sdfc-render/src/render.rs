@@ -146,8 +146,8 @@ impl Renderer {
     }
 
     /// Runs a render-interface pipeline over the image and reads the results back: the
-    /// frame buffer at binding 0 (read-only storage), colour and AOVs at 1 and 2, `inputs` (read-only storage) from
-    /// binding 3 on.
+    /// frame buffer at binding 0 (read-only storage), colour and AOVs at 1 and 2, `inputs`
+    /// (read-only storage) from binding 3 on.
     pub(crate) fn dispatch(
         &self,
         pipeline: &wgpu::ComputePipeline,

@@ -43,7 +43,8 @@ pub struct Args {
     /// A first picture as soon as possible: if the scene's specialised pipeline is not built
     /// within the grace period, the interpreted marcher draws a preview into OUT while it
     /// builds (on a CPU device only once the interpreter is warm, as in --watch after its
-    /// first frame), then the specialised frame replaces it; the times go to stderr
+    /// first frame, and with no grace before the build starts, so that the two do not share
+    /// the cores), then the specialised frame replaces it; the times go to stderr
     #[arg(long, conflicts_with_all = ["interpreted", "compare"])]
     live: bool,
     /// With --live: milliseconds to wait for the specialised pipeline before drawing the

@@ -119,6 +119,8 @@ impl Renderer {
     /// draws the final frame, which is returned. `on_frame` sees each frame as it comes (the
     /// preview at full size). Errors in the params, the time or the size come before any
     /// work; a preview the interpreter cannot draw is skipped, with the reason in the report.
+    /// On a CPU device with no grace and the interpreter warm, the preview is drawn before
+    /// the pipeline's build starts rather than beside it: they would share the cores.
     pub fn render_live(
         &self,
         program: &Program,
@@ -146,19 +148,43 @@ impl Renderer {
         params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         self.check_size(opts.width, opts.height, opts.aovs)?;
+        let (mut interpreted, mut preview_skipped) = (None, None);
+        let mut preview_cut = 0;
+        let previewed = live.preview.as_deref().unwrap_or(program);
+        // On a CPU device the pipeline's builder and the preview share the cores: emitting,
+        // validating and building a large scene's pipeline slowed the preview it is meant to
+        // precede (docs/performance.md). Where the preview is due at once (no grace) and the
+        // interpreter is warm, it is drawn here first, and the build starts after it.
+        let preview_first = self.adapter_description().software
+            && live.grace.is_zero()
+            && self.interpreter_is_warm();
+        if preview_first {
+            if superseded() {
+                return Ok(None);
+            }
+            let drawn = match self.interpreter_for(previewed) {
+                Err(why) => Err(why),
+                Ok(code) => self.draw_preview(previewed, &code, opts, live, &mut on_frame)?,
+            };
+            match drawn {
+                Ok((at, cut)) => (interpreted, preview_cut) = (Some(at), cut),
+                Err(why) => preview_skipped = Some(why),
+            }
+        }
         let build_started = live.start.elapsed();
         let (tx, rx) = mpsc::channel();
         // Set when this render gives up: the builder then skips the pipeline build if it
         // has not begun it (a burst of edits would otherwise build every version).
         let abandoned = Arc::new(AtomicBool::new(false));
         self.specialise_in_background(program, live, tx.clone(), abandoned.clone())?;
-        // `None`: never (a grace of `Duration::MAX`).
-        let preview_at = Instant::now().checked_add(live.grace);
-        let mut tx = Some(tx);
+        // `None`: never (a grace of `Duration::MAX`, or the preview already drawn).
+        let preview_at = Instant::now()
+            .checked_add(live.grace)
+            .filter(|_| !preview_first);
+        // Only the builder holds a sender where no preview is to come, so that its end
+        // without a word is seen.
+        let mut tx = preview_at.map(|_| tx);
         let mut code = None;
-        let (mut interpreted, mut preview_skipped) = (None, None);
-        let mut preview_cut = 0;
-        let previewed = live.preview.as_deref().unwrap_or(program);
         let (built, pipeline_ready) = loop {
             if superseded() {
                 abandoned.store(true, Ordering::Relaxed);
@@ -199,16 +225,9 @@ impl Renderer {
                         abandoned.store(true, Ordering::Relaxed);
                         return Ok(None);
                     }
-                    match self.preview(previewed, code, opts, live) {
-                        Ok((frame, cut)) => {
-                            preview_cut = cut;
-                            interpreted = Some(live.start.elapsed());
-                            on_frame(Drawn::Interpreted, &frame);
-                        }
-                        // A lost device ends the render; anything else (the bytecode beyond
-                        // the device's buffers, say) only costs the preview.
-                        Err(e @ RenderError::DeviceLost(_)) => return Err(e),
-                        Err(e) => preview_skipped = Some(e.to_string()),
+                    match self.draw_preview(previewed, code, opts, live, &mut on_frame)? {
+                        Ok((at, cut)) => (interpreted, preview_cut) = (Some(at), cut),
+                        Err(why) => preview_skipped = Some(why),
                     }
                 }
                 Ok(Event::Interpreter(Err(e))) => {
@@ -320,6 +339,28 @@ impl Renderer {
             );
         }
         Ok(code)
+    }
+
+    /// Draws the preview and hands it to `on_frame`: when it was drawn and how many of its
+    /// pixels were cut short, or why it was not drawn. A lost device ends the render;
+    /// anything else (the bytecode beyond the device's buffers, say) only costs the preview.
+    fn draw_preview(
+        &self,
+        previewed: &Program,
+        code: &Bytecode,
+        opts: &RenderOptions,
+        live: &LiveOptions,
+        on_frame: &mut impl FnMut(Drawn, &Frame),
+    ) -> Result<Result<(Duration, usize), String>, RenderError> {
+        match self.preview(previewed, code, opts, live) {
+            Ok((frame, cut)) => {
+                let at = live.start.elapsed();
+                on_frame(Drawn::Interpreted, &frame);
+                Ok(Ok((at, cut)))
+            }
+            Err(e @ RenderError::DeviceLost(_)) => Err(e),
+            Err(e) => Ok(Err(e.to_string())),
+        }
     }
 
     /// The interpreted frame at `1 / preview_scale` of the size, enlarged back to it, in

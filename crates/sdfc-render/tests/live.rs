@@ -60,6 +60,18 @@ fn with_no_grace_the_interpreter_draws_a_preview_then_the_specialised_shader_the
         "{report:?}"
     );
     assert_eq!(report.preview_skipped, None);
+    // On a CPU device the build starts once the preview is drawn, so that the two do not
+    // share the cores; on a GPU it starts at once, beside the preview.
+    let interpreted = report.interpreted.unwrap();
+    let times = format!(
+        "build started at {:?}, preview drawn at {interpreted:?}",
+        report.build_started
+    );
+    if r.adapter_description().software {
+        assert!(report.build_started >= interpreted, "{times}");
+    } else {
+        assert!(report.build_started < interpreted, "{times}");
+    }
     let (preview, last) = (&frames[0].1, &frames[1].1);
 
     // The preview is the interpreted frame at half the size, each pixel repeated 2x2, in

@@ -72,6 +72,14 @@ for line in sys.stdin:
     cmp -s .gpu/grid300.sdf .gpu/grid300-far.sdf && { echo "the close grid's camera has changed" >&2; exit 1; }
     .gpu/sdfc compile --cull .gpu/grid300.sdf -o .gpu/grid300-cull.wgsl
     .gpu/sdfc compile --cull .gpu/grid300-far.sdf -o .gpu/grid300-far-cull.wgsl
+    # The marcher as one loop (refinement inside the stepping loop), the form before
+    # 2026-12-04, for three marching scenes: `marcher_loops` times it against the two loops.
+    for s in spec_section10 terrain fractals; do
+        .gpu/sdfc compile "examples/$s.sdf" -o ".gpu/$s.wgsl"
+        scripts/swap-function.py ".gpu/$s.wgsl" march scripts/experiments/march_one_loop.wgsl \
+            ".gpu/$s-one-loop.wgsl"
+        rm ".gpu/$s.wgsl"
+    done
     du -sh .gpu
     if command -v apt-get >/dev/null 2>&1; then
         # The device tool's advice: x86-64 packages of the loaders, unpacked there.
@@ -193,6 +201,12 @@ measure() {
                 skipped render_tests "no .gpu/tests.tar.xz"
             fi ;;
         tables_300) step tables_300.log 30 $c compare .gpu/grid300.sdf .gpu/grid300-tables.wgsl "$size" ;;
+        # The two-loop marcher ("own") against the one-loop form ("other"), same pictures.
+        marcher_loops)
+            local s
+            for s in spec_section10 terrain fractals; do
+                step "marcher_loops_$s.log" 20 $c compare "examples/$s.sdf" ".gpu/$s-one-loop.wgsl" "$size"
+            done ;;
         tables_5000)
             if [ -n "$quick" ]; then
                 skipped tables_5000 "quick run"
@@ -212,7 +226,7 @@ measure() {
 # All measurements, the slowest (the 5 000-shape union's) last. Their limits add up to about
 # 15 minutes, more than one call may take; on the H200 all but the last two took about four
 # minutes, and first_pixel_5000 is cut short by design (its preview line comes first).
-ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 benches tables_5000 first_pixel_5000"
+ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 marcher_loops benches tables_5000 first_pixel_5000"
 
 # Runs the measurements; exits 1 if any failed or ran out of time (summary.txt says which).
 run() {

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # The figures that need a real GPU (issue 6: culling, specialised against interpreted, first
-# pixel, tables, relaxation's time) and the render tests on it, prepared here and run in one
+# pixel, tables, unions as data, relaxation's time) and the render tests on it, prepared here and run in one
 # call on a machine lent through the device tool, which has no Rust toolchain and no network
 # and whose device time is short (docs/performance.md, "Measuring on a GPU"). Two steps:
 #
 #   scripts/gpu-bench.sh prepare
 #       here, on a machine with cargo: builds the release `sdfc`, the three render benches,
 #       the `compare_shader` example and the render tests (profile gpu-test, packed with xz),
-#       strips them into `.gpu/` (ignored by git, about 45 MB), writes the table experiment's
-#       grids and shaders (scripts/table-experiment.py) and the culled grids there, and
+#       strips them into `.gpu/` (ignored by git, about 45 MB), writes the table and data
+#       experiments' grids, shaders and data (scripts/table-experiment.py,
+#       scripts/bvh-experiment.py) and the culled grids there, and
 #       downloads the Vulkan and EGL loaders' Debian packages into `.gl/` (ignored).
 #   scripts/gpu-bench.sh run [SIZE]
 #       there, from the repository's root, with `.gpu` and `.gl` carried:
@@ -64,6 +65,13 @@ for line in sys.stdin:
     for n in 300 5000; do
         .gpu/compare_shader emit "$n" .gpu
         scripts/table-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-tables.wgsl"
+        # Large unions as data: the divergent walks (a hierarchy per kind, leaves of 1, and
+        # one for all kinds), and the coherent one (a hierarchy per kind, leaves of 4).
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-bvh.wgsl" ".gpu/grid$n-bvh.bin" 1
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-bvh-mix.wgsl" \
+            ".gpu/grid$n-bvh-mix.bin" --mixed
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-bvh-sg.wgsl" \
+            ".gpu/grid$n-bvh-sg.bin" 4 --subgroup
     done
     # Culling's own comparison: the close grid and the grid from the suite's camera, each
     # compiled with --cull (the camera is in the shader).
@@ -72,6 +80,9 @@ for line in sys.stdin:
     cmp -s .gpu/grid300.sdf .gpu/grid300-far.sdf && { echo "the close grid's camera has changed" >&2; exit 1; }
     .gpu/sdfc compile --cull .gpu/grid300.sdf -o .gpu/grid300-cull.wgsl
     .gpu/sdfc compile --cull .gpu/grid300-far.sdf -o .gpu/grid300-far-cull.wgsl
+    .gpu/sdfc compile .gpu/grid300-far.sdf -o .gpu/grid300-far.wgsl
+    scripts/bvh-experiment.py .gpu/grid300-far.wgsl .gpu/grid300-far-bvh.wgsl .gpu/grid300-far-bvh.bin 1
+    rm .gpu/grid300-far.wgsl
     # The marcher as one loop (refinement inside the stepping loop), the form before
     # 2026-12-04, for three marching scenes: `marcher_loops` times it against the two loops.
     for s in spec_section10 terrain fractals; do
@@ -201,6 +212,21 @@ measure() {
                 skipped render_tests "no .gpu/tests.tar.xz"
             fi ;;
         tables_300) step tables_300.log 30 $c compare .gpu/grid300.sdf .gpu/grid300-tables.wgsl "$size" ;;
+        # Large unions as data (scripts/bvh-experiment.py): the 300-shape grid's walks against
+        # its code, from close by and from the suite's camera; the 5 000-shape grid's mixed
+        # and coherent walks against its divergent one (its code's build outlasts any call).
+        bvh_300)
+            local g=.gpu/grid300
+            step bvh_300.log 30 $c compare $g.sdf $g-bvh.wgsl:$g-bvh.bin "$size"
+            step bvh_300_mix.log 30 $c compare $g.sdf $g-bvh-mix.wgsl:$g-bvh-mix.bin "$size"
+            step bvh_300_sg.log 30 $c compare $g.sdf $g-bvh-sg.wgsl:$g-bvh-sg.bin "$size"
+            step bvh_300_far.log 30 $c compare $g-far.sdf $g-far-bvh.wgsl:$g-far-bvh.bin "$size" ;;
+        bvh_5000)
+            local g=.gpu/grid5000 w
+            for w in mix sg; do
+                step "bvh_5000_$w.log" 40 $c compare $g.sdf "$g-bvh-$w.wgsl:$g-bvh-$w.bin" "$size" \
+                    $g-bvh.wgsl:$g-bvh.bin
+            done ;;
         # The two-loop marcher ("own") against the one-loop form ("other"), same pictures.
         marcher_loops)
             local s
@@ -226,7 +252,7 @@ measure() {
 # All measurements, the slowest (the 5 000-shape union's) last. Their limits add up to about
 # 15 minutes, more than one call may take; on the H200 all but the last two took about four
 # minutes, and first_pixel_5000 is cut short by design (its preview line comes first).
-ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 marcher_loops benches tables_5000 first_pixel_5000"
+ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 bvh_300 bvh_5000 marcher_loops benches tables_5000 first_pixel_5000"
 
 # Runs the measurements; exits 1 if any failed or ran out of time (summary.txt says which).
 run() {

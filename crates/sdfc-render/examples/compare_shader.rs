@@ -5,7 +5,10 @@
 //!
 //! `cargo run --release -p sdfc-render --example compare_shader -- emit N DIR` writes
 //! `DIR/gridN.sdf` (the generated grid of N shapes, seen from close by) and `DIR/gridN.wgsl`
-//! (its shader); `... -- compare SCENE.sdf OTHER.wgsl WxH` renders both.
+//! (its shader); `... -- compare SCENE.sdf OTHER.wgsl WxH [BASE.wgsl]` renders both, OTHER
+//! against the scene's own shader or, where given, against BASE. A shader written
+//! `S.wgsl:D.bin` reads the bytes of `D.bin` as read-only storage at binding 3
+//! (`scripts/bvh-experiment.py`).
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -38,9 +41,22 @@ fn emit(n: usize, dir: &str) -> Result<(), Error> {
     Ok(())
 }
 
-fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
+/// A shader's text and the data it reads at binding 3, if any, from `S.wgsl[:D.bin]`.
+fn shader(arg: &str) -> Result<(String, Option<Vec<u8>>), Error> {
+    let (wgsl, data) = match arg.split_once(':') {
+        Some((wgsl, data)) => (wgsl, Some(std::fs::read(data)?)),
+        None => (arg, None),
+    };
+    Ok((std::fs::read_to_string(wgsl)?, data))
+}
+
+fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(), Error> {
     let compiled = compile(&std::fs::read_to_string(scene)?)?;
-    let other = std::fs::read_to_string(other)?;
+    let other = shader(other)?;
+    let base = match base {
+        Some(b) => shader(b)?,
+        None => (compiled.wgsl.clone(), None),
+    };
     let (w, h) = size.split_once('x').ok_or("size is WxH")?;
     let mut opts = RenderOptions::sized(w.parse()?, h.parse()?);
     opts.aovs = true;
@@ -48,15 +64,24 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
     println!("adapter: {}", r.adapter_description());
     // The other shader first: where the own one is slow to build (a large union on a CPU
     // device), the other's figures are printed before a time limit cuts the run short.
-    let shaders = [("other shader", &other), ("own shader", &compiled.wgsl)];
+    let own = if base.1.is_none() && base.0 == compiled.wgsl {
+        "own shader"
+    } else {
+        "base shader"
+    };
+    let shaders = [("other shader", &other), (own, &base)];
+    let render = |(wgsl, data): &(String, Option<Vec<u8>>)| match data {
+        Some(bytes) => r.render_wgsl_with_data(compiled.program(), wgsl, bytes, &opts),
+        None => r.render_wgsl(compiled.program(), wgsl, &opts),
+    };
     let mut frames = Vec::new();
-    for (name, wgsl) in shaders {
+    for (name, shader) in shaders {
         let start = Instant::now();
-        let frame = r.render_wgsl(compiled.program(), wgsl, &opts)?;
+        let frame = render(shader)?;
         let steps = frame.aovs.as_ref().map_or(0.0, |a| a.mean_steps());
         println!(
             "{name}: {} bytes, build and first render {:.2?}, {steps:.2} steps per pixel",
-            wgsl.len(),
+            shader.0.len(),
             start.elapsed(),
         );
         frames.push(frame);
@@ -64,16 +89,16 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
     // Both shaders drawn in turn for a while first (`sdfc_tests::warm_up`), then timed
     // interleaved frame by frame, so that neither is measured at a clock the other did not have.
     sdfc_tests::warm_up(|| {
-        for (_, wgsl) in shaders {
-            r.render_wgsl(compiled.program(), wgsl, &opts)?;
+        for (_, shader) in shaders {
+            render(shader)?;
         }
         Ok::<_, sdfc_render::RenderError>(())
     })?;
     const FRAMES: usize = 21;
     let mut times = [(Vec::new(), Vec::new()), (Vec::new(), Vec::new())];
     for _ in 0..FRAMES {
-        for ((_, wgsl), (device, wall)) in shaders.iter().zip(&mut times) {
-            let f = r.render_wgsl(compiled.program(), wgsl, &opts)?;
+        for ((_, shader), (device, wall)) in shaders.iter().zip(&mut times) {
+            let f = render(shader)?;
             wall.push(f.wall_time);
             device.extend(f.device_time);
         }
@@ -93,7 +118,8 @@ fn compare(scene: &str, other: &str, size: &str) -> Result<(), Error> {
         medians.push(d.or(w).unwrap_or_default());
     }
     println!(
-        "own time / other time: {:.2}x",
+        "{} time / other time: {:.2}x",
+        own.trim_end_matches(" shader"),
         medians[1].as_secs_f64() / medians[0].as_secs_f64().max(1e-12)
     );
     let (a, b) = (&frames[1], &frames[0]);
@@ -130,7 +156,11 @@ fn main() -> Result<(), Error> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.iter().map(String::as_str).collect::<Vec<_>>()[..] {
         ["emit", n, dir] => emit(n.parse()?, dir),
-        ["compare", scene, other, size] => compare(scene, other, size),
-        _ => Err("usage: compare_shader emit N DIR | compare SCENE.sdf OTHER.wgsl WxH".into()),
+        ["compare", scene, other, size] => compare(scene, other, size, None),
+        ["compare", scene, other, size, base] => compare(scene, other, size, Some(base)),
+        _ => Err(
+            "usage: compare_shader emit N DIR | compare SCENE.sdf OTHER.wgsl[:DATA.bin] WxH [BASE.wgsl[:DATA.bin]]"
+                .into(),
+        ),
     }
 }

@@ -301,11 +301,15 @@ impl Renderer {
 
     fn open(adapter: &wgpu::Adapter, info: &wgpu::AdapterInfo) -> Result<Renderer, RenderError> {
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let required_features = if timestamps {
+        let mut required_features = if timestamps {
             wgpu::Features::TIMESTAMP_QUERY
         } else {
             wgpu::Features::empty()
         };
+        // Subgroup operations where the device has them: sdfc's shaders use none, but the
+        // coherent walk of `scripts/bvh-experiment.py --subgroup` does (docs/performance.md,
+        // "Large unions as data").
+        required_features |= adapter.features() & wgpu::Features::SUBGROUP;
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sdfc"),

@@ -145,6 +145,34 @@ impl Renderer {
         )
     }
 
+    /// Renders `wgsl` as [`Renderer::render_wgsl`] does, with `data` bound as read-only
+    /// storage at binding 3 (and 16 zero bytes at binding 4, the interpreter's layout): the
+    /// hook of experiments on shaders that read their scene from a buffer
+    /// (`scripts/bvh-experiment.py`, the `compare_shader` example). Not an API.
+    #[doc(hidden)]
+    pub fn render_wgsl_with_data(
+        &self,
+        program: &Program,
+        wgsl: &str,
+        data: &[u8],
+        opts: &RenderOptions,
+    ) -> Result<Frame, RenderError> {
+        let params = params::values(program, &opts.params)?;
+        params::check_time(opts.time)?;
+        self.check_health()?;
+        let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
+        let pipeline = self.pipeline(Kind::Interpreted, wgsl)?;
+        let frame = params::frame_bytes(header(opts), &params);
+        self.dispatch(
+            &pipeline.pipeline,
+            &self.interp_bind_layout,
+            &frame,
+            &[("sdfc experiment data", data), ("sdfc unused", &[0; 16])],
+            opts,
+            (gx, gy),
+        )
+    }
+
     /// Runs a render-interface pipeline over the image and reads the results back: the
     /// frame buffer at binding 0 (read-only storage), colour and AOVs at 1 and 2, `inputs`
     /// (read-only storage) from binding 3 on.

@@ -505,3 +505,52 @@ fn forgotten_scene_pipelines_are_built_again() {
     r.render(&a, &RenderOptions::sized(8, 8)).unwrap();
     assert_eq!(r.pipeline_compilations(), 2);
 }
+
+/// The experiments' hook (`render_wgsl_with_data`, used by `compare_shader` for
+/// `scripts/bvh-experiment.py`): the bytes given are what the shader reads at binding 3.
+#[test]
+fn a_shader_reads_the_data_given_at_binding_3() {
+    let Some(r) = renderer() else { return };
+    let opts = RenderOptions {
+        aovs: true,
+        ..RenderOptions::sized(32, 24)
+    };
+    let own = |radius: f32| {
+        let c = compile("sphere", &format!("scene = sphere({radius:?});"));
+        r.render(&c, &opts).unwrap()
+    };
+    let base = compile("sphere", "scene = sphere(1.0);");
+    // The sphere's radius read from the data instead of written in the code.
+    let from_data = base
+        .wgsl
+        .replace(
+            "let d0 = sd_sphere(p, 1.0);",
+            "let d0 = sd_sphere(p, bitcast<f32>(scene_data[0]));",
+        )
+        .replace(
+            "fn scene_distance(",
+            "@group(0) @binding(3) var<storage, read> scene_data: array<u32>;\n\nfn scene_distance(",
+        );
+    assert_ne!(
+        from_data, base.wgsl,
+        "the sphere's shader has changed: update the test"
+    );
+    let hits = |f: &Frame| {
+        f.aovs
+            .as_ref()
+            .unwrap()
+            .depth
+            .iter()
+            .filter(|d| d.is_finite())
+            .count()
+    };
+    for radius in [1.0f32, 0.5] {
+        let frame = r
+            .render_wgsl_with_data(base.program(), &from_data, &radius.to_le_bytes(), &opts)
+            .unwrap();
+        let expected = own(radius);
+        assert!(hits(&frame) > 0);
+        assert_eq!(hits(&frame), hits(&expected), "radius {radius}");
+        assert_eq!(frame.rgba, expected.rgba, "radius {radius}");
+    }
+}

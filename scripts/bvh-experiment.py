@@ -1,19 +1,22 @@
 #!/usr/bin/env python3
 """Rewrites the emitted WGSL of a generated grid scene (`sdfc_tests::grid_scene`) so that its
-union is read from a storage buffer: for each kind of shape, a bounding-volume hierarchy of
-its instances, walked by one loop with skip links (no stack), with the compiled culling's
-rules (a part is opened only where its box is nearer than the best distance so far, and
-answers with its box's distance farther than its reach). The experiment behind "Large
-unions as data" in docs/performance.md. Not part of the compiler; it knows only the grid's
-three kinds of shape (it shares `table-experiment.py`'s parser) and fails loudly on anything
-else.
+union is read from a storage buffer: bounding-volume hierarchies of its instances (one per
+kind of shape, or one for all), each walked by one loop with skip links (no stack), with the
+compiled culling's rules (a part is opened only where its box is nearer than the best
+distance so far, and answers with its box's distance farther than its reach). The experiment
+behind "Large unions as data" in docs/performance.md. Not part of the compiler; it knows
+only the grid's three kinds of shape (it shares `table-experiment.py`'s parser) and fails
+loudly on anything else.
 
-    scripts/bvh-experiment.py GRID.wgsl OUT.wgsl OUT.bin [LEAF] [--subgroup | --mixed]
+    scripts/bvh-experiment.py GRID.wgsl OUT.wgsl OUT.bin [LEAF] [--subgroup | --mixed [--hint]]
 
-LEAF (default 1) is the number of instances a leaf evaluates, straight-line: a leaf with
-fewer repeats its first instance, which changes neither the minimum nor the material.
-`--subgroup` makes the walk coherent, `--mixed` builds one hierarchy for every kind (below). `compare_shader compare SCENE.sdf
-OUT.wgsl:OUT.bin WxH` renders it against the scene's own shader.
+LEAF (default 1) is the number of instances a leaf of a per-kind hierarchy evaluates,
+straight-line: a leaf with fewer repeats its first instance, which changes neither the
+minimum nor the material. `--subgroup` makes the per-kind walk coherent (it needs a device
+with subgroups; naga validates it only with that capability), `--mixed` builds one hierarchy
+for every kind, and `--hint` starts its walk at the instance nearest at the last call
+(below). `compare_shader compare SCENE.sdf OUT.wgsl:OUT.bin WxH` renders it against the
+scene's own shader.
 """
 import importlib.util
 import math
@@ -210,7 +213,32 @@ def build(boxes, leaf_size):
 
 # The mixed walk (`--mixed`): one hierarchy over every instance, leaves of one, the kind in a
 # leaf word's top bits and a switch on it; each instance two vec4 (a sphere's second unused).
-MIXED_WALK = """    var i = 0u;
+MIXED = """
+// One instance's distance, from its leaf word (kind in the top four bits, 1 + its first vec4
+// below).
+fn instance(p: vec3<f32>, leaf: u32) -> f32 {
+    let base = (leaf & 0x0fffffffu) - 1u;
+    let a = bitcast<vec4<f32>>(scene_data[base]);
+    let b = bitcast<vec4<f32>>(scene_data[base + 1u]);
+    switch leaf >> 28u {
+        case 0u: {
+            return sd_sphere(p - a.xyz, a.w);
+        }
+        case 1u: {
+            return sd_box(rotate_y(p - a.xyz, a.w, b.x), b.yzw);
+        }
+        default: {
+            return sd_torus(rotate_x(p - a.xyz, a.w, b.x), b.y, b.z);
+        }
+    }
+}
+{hint_decl}
+fn scene_nearest(p: vec3<f32>, with_kind: bool) -> Nearest {
+    var d = 3.0e38;
+    var kind = 0u;
+    var nearest = 0u;
+{hint_start}
+    var i = 0u;
     loop {
         if i >= {end}u {
             break;
@@ -221,31 +249,37 @@ MIXED_WALK = """    var i = 0u;
         if v.leaf == 0u {
             continue;
         }
-        let base = (v.leaf & 0x0fffffffu) - 1u;
-        let k = v.leaf >> 28u;
-        let a = bitcast<vec4<f32>>(scene_data[base]);
-        let b = bitcast<vec4<f32>>(scene_data[base + 1u]);
-        var di: f32;
-        switch k {
-            case 0u: {
-                di = sd_sphere(p - a.xyz, a.w);
-            }
-            case 1u: {
-                di = sd_box(rotate_y(p - a.xyz, a.w, b.x), b.yzw);
-            }
-            default: {
-                di = sd_torus(rotate_x(p - a.xyz, a.w, b.x), b.y, b.z);
-            }
-        }
-        if with_kind && di < d {
-            kind = k;
+        let di = instance(p, v.leaf);
+        if di < d {
+            nearest = v.leaf;
         }
         d = min(d, di);
     }
+{hint_end}
+    if with_kind {
+        kind = nearest >> 28u;
+    }
+    return Nearest(d, kind);
+}
 """
 
+# `--hint`: the instance nearest at the invocation's last call is evaluated first, so that
+# the walk starts from a tight best distance (the value is the same: a skipped part is never
+# nearer than the final distance).
+HINT_DECL = """
+// The leaf word of the instance nearest at this invocation's last call, or 0.
+var<private> hint: u32;
+"""
+HINT_START = """    if hint != 0u {
+        d = instance(p, hint);
+        nearest = hint;
+    }"""
+HINT_END = """    if nearest != 0u {
+        hint = nearest;
+    }"""
 
-def main_mixed(head, kinds, tail, out_path, bin_path):
+
+def main_mixed(head, kinds, tail, out_path, bin_path, hint):
     items = [(k, e) for k, name in enumerate(kinds) for e in kinds[name]]
     names = list(kinds)
     nodes, order = build([bounds(names[k], e) for k, e in items], 1)
@@ -259,8 +293,13 @@ def main_mixed(head, kinds, tail, out_path, bin_path):
     for i in order:
         e = items[i][1]
         inst += u32s_of_floats(e + [0.0] * (8 - len(e)))
-    walk = MIXED_WALK.replace("{end}", str(len(nodes)))
-    scene = BINDING + VISIT + NEAREST.replace("{walks}", walk)
+    nearest = (
+        MIXED.replace("{end}", str(len(nodes)))
+        .replace("{hint_decl}", HINT_DECL if hint else "")
+        .replace("{hint_start}", HINT_START if hint else "")
+        .replace("{hint_end}", HINT_END if hint else "")
+    )
+    scene = BINDING + VISIT + nearest
     write(head, scene, tail, words + inst, out_path, bin_path)
     print(f"{out_path}: {len(items)} instances, {len(nodes)} nodes, mixed; {bin_path}")
 
@@ -345,11 +384,11 @@ def main(src_path, out_path, bin_path, leaf_size, coherent):
 
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    if len(args) not in (3, 4) or len(sys.argv) - 1 - len(args) > 1:
+    if len(args) not in (3, 4):
         sys.exit(__doc__)
     if "--mixed" in sys.argv:
         head, kinds, tail = parse(open(args[0]).read())
-        main_mixed(head, kinds, tail, args[1], args[2])
+        main_mixed(head, kinds, tail, args[1], args[2], "--hint" in sys.argv)
     else:
         leaf = int(args[3]) if len(args) == 4 else 1
         main(args[0], args[1], args[2], leaf, "--subgroup" in sys.argv)

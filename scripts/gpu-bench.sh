@@ -65,13 +65,13 @@ for line in sys.stdin:
     for n in 300 5000; do
         .gpu/compare_shader emit "$n" .gpu
         scripts/table-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-tables.wgsl"
-        # Large unions as data: the divergent walks (a hierarchy per kind, leaves of 1, and
-        # one for all kinds), and the coherent one (a hierarchy per kind, leaves of 4).
-        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-bvh.wgsl" ".gpu/grid$n-bvh.bin" 1
-        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-bvh-mix.wgsl" \
-            ".gpu/grid$n-bvh-mix.bin" --mixed
-        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" ".gpu/grid$n-bvh-sg.wgsl" \
-            ".gpu/grid$n-bvh-sg.bin" 4 --subgroup
+        # Large unions as data: the divergent walks (a hierarchy per kind, leaves of 1; one
+        # for all kinds, without and with the hint) and the coherent one (per kind, leaves of 4).
+        local g=".gpu/grid$n-bvh"
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" "$g.wgsl" "$g.bin" 1
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" "$g-mix.wgsl" "$g-mix.bin" --mixed
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" "$g-hint.wgsl" "$g-hint.bin" --mixed --hint
+        scripts/bvh-experiment.py ".gpu/grid$n.wgsl" "$g-sg.wgsl" "$g-sg.bin" 4 --subgroup
     done
     # Culling's own comparison: the close grid and the grid from the suite's camera, each
     # compiled with --cull (the camera is in the shader).
@@ -81,7 +81,8 @@ for line in sys.stdin:
     .gpu/sdfc compile --cull .gpu/grid300.sdf -o .gpu/grid300-cull.wgsl
     .gpu/sdfc compile --cull .gpu/grid300-far.sdf -o .gpu/grid300-far-cull.wgsl
     .gpu/sdfc compile .gpu/grid300-far.sdf -o .gpu/grid300-far.wgsl
-    scripts/bvh-experiment.py .gpu/grid300-far.wgsl .gpu/grid300-far-bvh.wgsl .gpu/grid300-far-bvh.bin 1
+    scripts/bvh-experiment.py .gpu/grid300-far.wgsl .gpu/grid300-far-bvh-hint.wgsl \
+        .gpu/grid300-far-bvh-hint.bin --mixed --hint
     rm .gpu/grid300-far.wgsl
     # The marcher as one loop (refinement inside the stepping loop), the form before
     # 2026-12-04, for three marching scenes: `marcher_loops` times it against the two loops.
@@ -213,17 +214,18 @@ measure() {
             fi ;;
         tables_300) step tables_300.log 30 $c compare .gpu/grid300.sdf .gpu/grid300-tables.wgsl "$size" ;;
         # Large unions as data (scripts/bvh-experiment.py): the 300-shape grid's walks against
-        # its code, from close by and from the suite's camera; the 5 000-shape grid's mixed
-        # and coherent walks against its divergent one (its code's build outlasts any call).
+        # its code, from close by and (the hinted walk) from the suite's camera; the 5 000-shape
+        # grid's other walks against its walk per kind (its code's build outlasts any call).
         bvh_300)
-            local g=.gpu/grid300
+            local g=.gpu/grid300 w
+            for w in hint mix sg; do
+                step "bvh_300_$w.log" 30 $c compare $g.sdf "$g-bvh-$w.wgsl:$g-bvh-$w.bin" "$size"
+            done
             step bvh_300.log 30 $c compare $g.sdf $g-bvh.wgsl:$g-bvh.bin "$size"
-            step bvh_300_mix.log 30 $c compare $g.sdf $g-bvh-mix.wgsl:$g-bvh-mix.bin "$size"
-            step bvh_300_sg.log 30 $c compare $g.sdf $g-bvh-sg.wgsl:$g-bvh-sg.bin "$size"
-            step bvh_300_far.log 30 $c compare $g-far.sdf $g-far-bvh.wgsl:$g-far-bvh.bin "$size" ;;
+            step bvh_300_far.log 30 $c compare $g-far.sdf $g-far-bvh-hint.wgsl:$g-far-bvh-hint.bin "$size" ;;
         bvh_5000)
             local g=.gpu/grid5000 w
-            for w in mix sg; do
+            for w in hint mix sg; do
                 step "bvh_5000_$w.log" 40 $c compare $g.sdf "$g-bvh-$w.wgsl:$g-bvh-$w.bin" "$size" \
                     $g-bvh.wgsl:$g-bvh.bin
             done ;;

@@ -16,6 +16,8 @@ use crate::value::Value;
 mod cull;
 mod warp;
 
+pub use cull::CULL_MIN;
+
 use crate::rounding::f32_up;
 
 /// The material of a point: `albedo` (rgb, reflectivity) and `phong` (ambient, diffuse,

@@ -7,6 +7,8 @@ use crate::pipelines::Kind;
 use crate::render::header;
 use crate::{params, Frame, RenderError, RenderOptions};
 use sdfc_ir::scene::RenderSettings;
+use sdfc_ir::shape::{CombineOp, ShapeKind};
+use sdfc_ir::to_ssa::CULL_MIN;
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
 use sdfc_wgsl::interp::frame::frame_data_with;
@@ -91,7 +93,8 @@ impl Renderer {
     /// scene's (the interpreter reads them at run time). lavapipe and llvmpipe end an
     /// invocation's loops after 65 535 trips in all; where that cut pixels' code short, the
     /// pipeline with two instructions per trip draws the frame again, and pixels still cut
-    /// make it an error (the scene is too large for the interpreter there).
+    /// make it an error (the scene is too large for the interpreter there). On such a
+    /// device a frame of 768 pixels or more is probed first (16 pixels wide, [`probe`]).
     pub(crate) fn render_bytecode_with(
         &self,
         program: &Program,
@@ -99,24 +102,63 @@ impl Renderer {
         code: &Bytecode,
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
-        let (mut frame, mut cut) = self.render_bytecode_cut(program, settings, code, opts, 1)?;
-        if cut > 0 && self.adapter_description().software {
-            let unroll = sdfc_wgsl::interp::CPU_UNROLL;
+        let software = self.adapter_description().software;
+        let mut unroll = 1;
+        // A frame cut short is drawn twice before it is refused: 72 s of lavapipe's time for
+        // the 5 000-shape union at 160x120. A probe of the same view at a few pixels, whose
+        // rays take no more steps than the frame's (its pixels' footprints are larger), finds
+        // such a scene in a fraction of that (3 s). It runs the one-instruction pipeline
+        // first, as the frame does: the other takes longer to build.
+        if let Some(probe) = probe(opts).filter(|_| software) {
+            let (_, cut) = self.render_bytecode_cut(program, settings, code, &probe, 1)?;
+            if cut > 0 {
+                unroll = sdfc_wgsl::interp::CPU_UNROLL;
+                let (_, cut) = self.render_bytecode_cut(program, settings, code, &probe, unroll)?;
+                if cut > 0 {
+                    return Err(self.cut_short(cut, &probe, program, true));
+                }
+            }
+        }
+        let (mut frame, mut cut) =
+            self.render_bytecode_cut(program, settings, code, opts, unroll)?;
+        if cut > 0 && software && unroll == 1 {
+            unroll = sdfc_wgsl::interp::CPU_UNROLL;
             (frame, cut) = self.render_bytecode_cut(program, settings, code, opts, unroll)?;
         }
         if cut > 0 {
-            return Err(self.cut_short(cut, opts));
+            return Err(self.cut_short(cut, opts, program, false));
         }
         Ok(frame)
     }
 
-    /// Why a frame with `cut` pixels cut short by the device's loop budget is refused.
-    pub(crate) fn cut_short(&self, cut: usize, opts: &RenderOptions) -> RenderError {
+    /// Why a frame with `cut` pixels cut short by the device's loop budget is refused; with
+    /// `probe`, `opts` are the probe's.
+    pub(crate) fn cut_short(
+        &self,
+        cut: usize,
+        opts: &RenderOptions,
+        program: &Program,
+        probe: bool,
+    ) -> RenderError {
+        let pixels = opts.width as usize * opts.height as usize;
+        let of = if probe {
+            format!(
+                "{pixels} pixels of a {}x{} probe of the view",
+                opts.width, opts.height
+            )
+        } else {
+            format!("{pixels} pixels")
+        };
+        // Culling makes the bytecode jump over the parts far from each ray.
+        let cull = if !program.culls() && has_cullable_union(program) {
+            "; with `--cull` the bytecode jumps over the parts of large unions far from each \
+             ray, which may bring it within the budget"
+        } else {
+            ""
+        };
         RenderError::Interpreter(sdfc_wgsl::interp::encode::EncodeError::TooLarge(format!(
-            "on {} of {} pixels it needs more loop trips than {} allows one invocation \
-             (lavapipe and llvmpipe: 65 535 in all)",
-            cut,
-            opts.width as usize * opts.height as usize,
+            "on {cut} of {of} it needs more loop trips than {} allows one invocation \
+             (lavapipe and llvmpipe: 65 535 in all){cull}",
             self.adapter_description().name
         )))
     }
@@ -161,4 +203,31 @@ impl Renderer {
         let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
         Ok((frame, cut))
     }
+}
+
+/// The probe of a frame: the same view 16 pixels wide, where the frame has at least four
+/// times its pixels (a smaller frame is its own probe), without AOVs.
+fn probe(opts: &RenderOptions) -> Option<RenderOptions> {
+    const WIDTH: u32 = 16;
+    let height =
+        ((WIDTH as f64 * opts.height as f64 / opts.width.max(1) as f64).round() as u32).max(1);
+    let big = opts.width as u64 * opts.height as u64 >= 4 * WIDTH as u64 * height as u64;
+    big.then(|| RenderOptions {
+        width: WIDTH,
+        height,
+        aovs: false,
+        ..opts.clone()
+    })
+}
+
+/// Whether the scene has a hard union large enough for `--cull` to split
+/// ([`CULL_MIN`] children or more).
+fn has_cullable_union(program: &Program) -> bool {
+    program.scene.shapes.iter().any(|s| {
+        matches!(
+            &s.kind,
+            ShapeKind::Combine { op: CombineOp::Union, smooth: None, children }
+                if children.len() >= CULL_MIN
+        )
+    })
 }

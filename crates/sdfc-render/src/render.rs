@@ -128,21 +128,7 @@ impl Renderer {
         wgsl: &str,
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
-        let params = params::values(program, &opts.params)?;
-        params::check_time(opts.time)?;
-        // A lost device fails at once, before a pipeline is built on it.
-        self.check_health()?;
-        let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        let pipeline = self.pipeline(Kind::Render, wgsl)?;
-        let frame = params::frame_bytes(header(opts), &params);
-        self.dispatch(
-            &pipeline.pipeline,
-            &self.render_bind_layout,
-            &frame,
-            &[],
-            opts,
-            (gx, gy),
-        )
+        self.render_text(program, wgsl, None, opts)
     }
 
     /// Renders `wgsl` as [`Renderer::render_wgsl`] does, with `data` bound as read-only
@@ -157,20 +143,36 @@ impl Renderer {
         data: &[u8],
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
+        self.render_text(program, wgsl, Some(data), opts)
+    }
+
+    /// [`Renderer::render_wgsl`], with `data` at binding 3 where there is some.
+    fn render_text(
+        &self,
+        program: &Program,
+        wgsl: &str,
+        data: Option<&[u8]>,
+        opts: &RenderOptions,
+    ) -> Result<Frame, RenderError> {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
+        // A lost device fails at once, before a pipeline is built on it.
         self.check_health()?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        let pipeline = self.pipeline(Kind::Interpreted, wgsl)?;
+        let (kind, layout, inputs) = match data {
+            None => (Kind::Render, &self.render_bind_layout, vec![]),
+            Some(data) => (
+                Kind::Interpreted,
+                &self.interp_bind_layout,
+                vec![
+                    ("sdfc experiment data", data),
+                    ("sdfc unused", &[0u8; 16][..]),
+                ],
+            ),
+        };
+        let pipeline = self.pipeline(kind, wgsl)?;
         let frame = params::frame_bytes(header(opts), &params);
-        self.dispatch(
-            &pipeline.pipeline,
-            &self.interp_bind_layout,
-            &frame,
-            &[("sdfc experiment data", data), ("sdfc unused", &[0; 16])],
-            opts,
-            (gx, gy),
-        )
+        self.dispatch(&pipeline.pipeline, layout, &frame, &inputs, opts, (gx, gy))
     }
 
     /// Runs a render-interface pipeline over the image and reads the results back: the

@@ -107,7 +107,7 @@ impl Renderer {
         // A frame cut short is drawn twice before it is refused: 72 s of lavapipe's time for
         // the 5 000-shape union at 160x120. A probe of the same view at a few pixels, whose
         // rays take no more steps than the frame's (its pixels' footprints are larger), finds
-        // such a scene in a fraction of that (3 s). It runs the one-instruction pipeline
+        // such a scene in a fraction of that (6 s). It runs the one-instruction pipeline
         // first, as the frame does: the other takes longer to build.
         if let Some(probe) = probe(opts).filter(|_| software) {
             let (_, cut) = self.render_bytecode_cut(program, settings, code, &probe, 1)?;

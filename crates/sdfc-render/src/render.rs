@@ -159,6 +159,7 @@ impl Renderer {
         // A lost device fails at once, before a pipeline is built on it.
         self.check_health()?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
+        // Data goes to the interpreter's layout, whose bindings 3 and 4 are read-only storage.
         let (kind, layout, inputs) = match data {
             None => (Kind::Render, &self.render_bind_layout, vec![]),
             Some(data) => (

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The figures that need a real GPU (issue 6: culling, specialised against interpreted, first
-# pixel, tables, unions as data, relaxation's time) and the render tests on it, prepared here and run in one
-# call on a machine lent through the device tool, which has no Rust toolchain and no network
-# and whose device time is short (docs/performance.md, "Measuring on a GPU"). Two steps:
+# pixel, tables, unions as data, relaxation's time) and the render tests on it, prepared here
+# and run in one call on a machine lent through the device tool, which has no Rust toolchain
+# and no network and whose device time is short (docs/performance.md, "Measuring on a GPU").
+# Two steps:
 #
 #   scripts/gpu-bench.sh prepare
 #       here, on a machine with cargo: builds the release `sdfc`, the three render benches,
@@ -252,8 +253,9 @@ measure() {
 }
 
 # All measurements, the slowest (the 5 000-shape union's) last. Their limits add up to about
-# 15 minutes, more than one call may take; on the H200 all but the last two took about four
-# minutes, and first_pixel_5000 is cut short by design (its preview line comes first).
+# 20 minutes, more than one call may take (pick with SDFC_GPU_ONLY); on the H200 all but the
+# last two took about four minutes before bvh_300 and bvh_5000 were added (25 s on lavapipe
+# at 64x48), and first_pixel_5000 is cut short by design (its preview line comes first).
 ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 bvh_300 bvh_5000 marcher_loops benches tables_5000 first_pixel_5000"
 
 # Runs the measurements; exits 1 if any failed or ran out of time (summary.txt says which).

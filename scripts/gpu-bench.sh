@@ -230,6 +230,14 @@ measure() {
                 step "bvh_5000_$w.log" 40 $c compare $g.sdf "$g-bvh-$w.wgsl:$g-bvh-$w.bin" "$size" \
                     $g-bvh.wgsl:$g-bvh.bin
             done ;;
+        # `--instances` (the union as data, built in): against the code on the 300-shape grid
+        # from both cameras, against the experiment's hinted walk on the 5 000-shape grid.
+        instances)
+            local g=.gpu/grid300
+            step instances_300.log 30 $c compare $g.sdf instances "$size"
+            step instances_300_far.log 30 $c compare $g-far.sdf instances "$size"
+            g=.gpu/grid5000
+            step instances_5000.log 40 $c compare $g.sdf instances "$size" $g-bvh-hint.wgsl:$g-bvh-hint.bin ;;
         # The two-loop marcher ("own") against the one-loop form ("other"), same pictures.
         marcher_loops)
             local s
@@ -256,7 +264,7 @@ measure() {
 # 20 minutes, more than one call may take (pick with SDFC_GPU_ONLY); on the H200 all but the
 # last two took about four minutes before bvh_300 and bvh_5000 were added (25 s on lavapipe
 # at 64x48), and first_pixel_5000 is cut short by design (its preview line comes first).
-ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 bvh_300 bvh_5000 marcher_loops benches tables_5000 first_pixel_5000"
+ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 bvh_300 bvh_5000 instances marcher_loops benches tables_5000 first_pixel_5000"
 
 # Runs the measurements; exits 1 if any failed or ran out of time (summary.txt says which).
 run() {

@@ -46,7 +46,7 @@ fn stage_emit_5000(bencher: divan::Bencher) {
     let src = grid_scene(5000);
     let file = sdfc_syntax::parse(&src).unwrap();
     let program = sdfc_ir::compile(&file, src.len()).0.unwrap().program;
-    bencher.bench(|| sdfc_wgsl::module::emit(divan::black_box(&program), false).len());
+    bencher.bench(|| sdfc_wgsl::module::emit(divan::black_box(&program), false, None).len());
 }
 
 #[divan::bench(sample_count = 20)]

@@ -221,6 +221,14 @@ fn forms(stem: &str, source: &str, out: &mut BTreeMap<String, String>) {
                 ..Options::default()
             },
         ),
+        // The same text as the plain form unless the root is a union of instances.
+        (
+            "instances",
+            Options {
+                instances: true,
+                ..Options::default()
+            },
+        ),
     ] {
         let what = format!("{stem}.{form}");
         add(

@@ -134,6 +134,7 @@ fn library_form_validates_and_matches_the_full_shader() {
             lib: true,
             import_path: None,
             cull: false,
+            instances: false,
         };
         let lib = compile(&scene.stem, &scene.source, &lib_opts);
         if let Err(report) =
@@ -174,6 +175,7 @@ fn library_form_with_import_path() {
             lib: true,
             import_path: Some("my::scene".into()),
             cull: false,
+            instances: false,
         };
         let with_path = compile(&scene.stem, &scene.source, &opts);
         let plain = compile(
@@ -183,6 +185,7 @@ fn library_form_with_import_path() {
                 lib: true,
                 import_path: None,
                 cull: false,
+                instances: false,
             },
         );
         let first = with_path.wgsl.lines().next().unwrap_or_default();
@@ -205,6 +208,7 @@ fn import_path_without_lib_is_refused() {
         lib: false,
         import_path: Some("my::scene".into()),
         cull: false,
+        instances: false,
     };
     match sdfc_wgsl::compile(&scene.source, &opts) {
         Err(Failure::Usage(m)) => assert!(m.contains("library form"), "{m}"),
@@ -266,6 +270,7 @@ fn identity_transforms_emit_identical_wgsl() {
             lib: true,
             import_path: None,
             cull: false,
+            instances: false,
         },
     ] {
         let a = compile("identity_a", &a_src, &opts);
@@ -330,4 +335,50 @@ fn culled_union_wgsl() {
         "no part takes the best distance"
     );
     insta::assert_snapshot!("culled_union.wgsl", funcs);
+}
+
+/// A union emitted as data (`--instances`): 20 shapes of two kinds (spheres of two radii,
+/// boxes) under moves, turns and scales, in three materials. The shader's scene part (the
+/// kinds' functions and their switch, the materials' lookup and the walk) is reviewed as
+/// text; naga validates it inside `compile`. The data holds 39 nodes of two vec4 and 20
+/// records: a sphere's three vec4 (quaternion; centre and scale; kind, material, radius), a
+/// box's four (its size runs into the fourth).
+#[test]
+fn instances_union_wgsl() {
+    let mut src = String::from(
+        "material red { color: [0.9, 0.2, 0.1] }\nmaterial blue { color: [0.1, 0.2, 0.9], specular: 0.3 }\nscene = union(\n",
+    );
+    for i in 0..20 {
+        let shape = match i % 4 {
+            0 => "sphere(0.4)".to_string(),
+            1 => "sphere(0.3).material(blue)".to_string(),
+            _ => format!(
+                "box([0.5, 0.3, 0.4]).rotate_y({}deg).scale(1.5).material(red)",
+                10 * i
+            ),
+        };
+        src += &format!("    {shape}.translate([{}, 0, {}]),\n", i % 5, i / 5);
+    }
+    src += ");\n";
+    let opts = Options {
+        instances: true,
+        ..Options::default()
+    };
+    let c = compile("instances_union", &src, &opts);
+    assert_eq!(
+        c.data.len(),
+        32 * 39 + 10 * 48 + 10 * 64,
+        "nodes and records"
+    );
+    let start = c
+        .wgsl
+        .find("fn instance_shape0(")
+        .expect("template functions");
+    let start = c.wgsl[..start].rfind("\n\n").expect("its comment") + 2;
+    let mat = c.wgsl.find("fn scene_material(").expect("scene_material");
+    let end = mat + c.wgsl[mat..].find("\n}\n").expect("its end") + 3;
+    insta::assert_snapshot!("instances_union.wgsl", &c.wgsl[start..end]);
+    // Without the option, the same scene is code.
+    let code = compile("instances_union", &src, &Options::default());
+    assert!(code.data.is_empty() && !code.wgsl.contains("scene_data"));
 }

@@ -172,10 +172,11 @@ pub fn run(a: Args) -> Outcome {
             return Outcome::EnvError;
         }
     }
-    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, false) {
-        Ok(p) => p,
-        Err(o) => return o,
-    };
+    let (compiled, overrides, renderer) =
+        match prepare(&a.scene, &a.params, &sdfc_wgsl::Options::default()) {
+            Ok(p) => p,
+            Err(o) => return o,
+        };
     let opts = RenderOptions {
         width: a.size.0,
         height: a.size.1,

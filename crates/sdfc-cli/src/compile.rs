@@ -62,6 +62,7 @@ pub fn run(a: Args) -> Outcome {
         lib: a.lib,
         import_path: a.import_path.clone(),
         cull: a.cull,
+        ..sdfc_wgsl::Options::default()
     };
     let text = if let Emit::Ast = a.emit {
         match sdfc_syntax::parse(&source) {

@@ -40,6 +40,12 @@ pub struct Args {
     /// --interpreted, the bytecode jumps over the parts those early-outs skip
     #[arg(long)]
     cull: bool,
+    /// Read the scene's root union from a buffer, as instances in a hierarchy of boxes walked
+    /// by one loop, instead of compiling each shape: for a union of many constant shapes
+    /// (moved, turned, scaled, with materials), whose pipeline then builds in about a second
+    /// whatever its size. A scene without such a union is compiled as usual, with a note
+    #[arg(long, conflicts_with_all = ["interpreted", "live", "cull"])]
+    instances: bool,
     /// A first picture as soon as possible: if the scene's specialised pipeline is not built
     /// within the grace period, the interpreted marcher draws a preview into OUT while it
     /// builds (on a CPU device only once the interpreter is warm, as in --watch after its
@@ -158,13 +164,9 @@ pub type Overrides = Vec<(String, Vec<f64>)>;
 pub fn prepare(
     scene: &PathBuf,
     params: &[String],
-    cull: bool,
+    opts: &sdfc_wgsl::Options,
 ) -> Result<(sdfc_wgsl::Compiled, Overrides, Renderer), Outcome> {
-    let opts = sdfc_wgsl::Options {
-        cull,
-        ..sdfc_wgsl::Options::default()
-    };
-    let (compiled, renderer) = with_device(|| load_scene(scene, &opts));
+    let (compiled, renderer) = with_device(|| load_scene(scene, opts));
     let compiled = compiled?;
     let overrides = param_overrides(compiled.program(), params)?;
     Ok((compiled, overrides, renderer?))
@@ -221,6 +223,9 @@ fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
 }
 
 /// Prints a render error; returns the outcome it maps to.
+/// Why `--instances` changed nothing.
+const INSTANCES_NOTE: &str = "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant shapes (each a primitive, moved, turned or scaled by constants, with a material), or the scene uses analytic normals; it is compiled as code";
+
 pub fn render_failure(e: &RenderError) -> Outcome {
     say!("sdfc: {e}");
     if e.is_input_error() {
@@ -322,10 +327,18 @@ pub fn run(a: Args) -> Outcome {
             watch: a.watch,
         });
     }
-    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, a.cull) {
+    let opts = sdfc_wgsl::Options {
+        cull: a.cull,
+        instances: a.instances,
+        ..sdfc_wgsl::Options::default()
+    };
+    let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, &opts) {
         Ok(p) => p,
         Err(o) => return o,
     };
+    if a.instances && compiled.data.is_empty() {
+        say!("{}", INSTANCES_NOTE);
+    }
     let params = to_f32(&overrides);
     let opts = RenderOptions {
         width: a.size.0,

@@ -1084,3 +1084,37 @@ fn a_slow_render_says_why_and_what_to_do_instead() {
         run.describe()
     );
 }
+
+/// `--instances`: a union of many constant shapes read from data draws the picture the code
+/// draws; a scene without such a union is rendered as code, with a note saying why; it does
+/// not go with `--interpreted`.
+#[test]
+fn instances_render_the_same_picture_or_say_why_not() {
+    if !have_device() {
+        return;
+    }
+    let t = TempDir::new("instances");
+    let grid = t.write("grid.sdf", sdfc_tests::grid_scene(40));
+    let (code, data) = (t.path("code.png"), t.path("data.png"));
+    let size: &[&str] = &["--size", "48x36"];
+    render_in(&t, &grid, &code, &[size]).expect_code(0);
+    let run = render_in(&t, &grid, &data, &[size, &["--instances"]]).expect_code(0);
+    assert!(!run.stderr.contains("note"), "{}", run.describe());
+    let (a, b) = (read_png(&code), read_png(&data));
+    let off = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .filter(|(x, y)| x.abs_diff(**y) > 2)
+        .count();
+    assert!(off <= 8, "{off} channels differ");
+    // A single sphere: code, and a note.
+    let scene = t.write("s.sdf", SPHERE);
+    let run = render_in(&t, &scene, &t.path("s.png"), &[size, &["--instances"]]).expect_code(0);
+    assert!(
+        run.stderr.contains("--instances: the scene's root is not"),
+        "{}",
+        run.describe()
+    );
+    render_in(&t, &grid, &data, &[&["--instances", "--interpreted"]]).expect_code(2);
+}

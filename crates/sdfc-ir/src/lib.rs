@@ -10,6 +10,7 @@ pub mod eval;
 pub mod func;
 pub mod graph;
 mod hash;
+pub mod instances;
 pub mod lower;
 pub mod noise;
 pub mod ops;

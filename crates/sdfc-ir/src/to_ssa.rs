@@ -49,6 +49,38 @@ pub struct Functions {
     pub distance_ray: Option<Func>,
 }
 
+/// `instance_shape{k}(p) -> f32` for each primitive of `templates` (the kinds of a union
+/// emitted as data, `crate::instances`): its distance in its own frame, its arguments read
+/// from `Op::Param(i)` (of the types given), which the emitter binds to the instance's
+/// arguments rather than the scene's params. Unoptimised.
+pub fn template_functions(scene: &Scene, templates: &[(Prim, Vec<Ty>)]) -> Vec<Func> {
+    let counts = crate::lower::expansion::instance_counts(&scene.shapes);
+    let analysis = crate::analysis::analyse(scene, false);
+    templates
+        .iter()
+        .enumerate()
+        .map(|(k, (prim, tys))| {
+            let mut b = Builder::new(scene, &counts, &analysis.nodes, false, Groups::default());
+            b.cull = false;
+            let p = b.point();
+            let args: Vec<NodeId> = tys
+                .iter()
+                .enumerate()
+                .map(|(i, ty)| {
+                    b.g.add_typed(Op::Param(i as u16), &[], *ty, Default::default())
+                })
+                .collect();
+            let d = b.prim_of(*prim, &args, p);
+            Func {
+                name: format!("instance_shape{k}"),
+                kind: FuncKind::Distance,
+                graph: b.g,
+                results: vec![d],
+            }
+        })
+        .collect()
+}
+
 /// Builds `scene_distance` and `scene_material` (and their group functions).
 pub fn functions(scene: &Scene, cull: bool) -> Functions {
     let counts = crate::lower::expansion::instance_counts(&scene.shapes);
@@ -572,6 +604,11 @@ impl<'s> Builder<'s> {
 
     fn prim(&mut self, prim: Prim, args: &[NodeId], p: NodeId) -> NodeId {
         let a: Vec<NodeId> = args.iter().map(|x| self.import(*x, None)).collect();
+        self.prim_of(prim, &a, p)
+    }
+
+    /// [`Builder::prim`] with its arguments already nodes of the function.
+    fn prim_of(&mut self, prim: Prim, a: &[NodeId], p: NodeId) -> NodeId {
         let half = self.f(0.5);
         match prim {
             Prim::Sphere => self

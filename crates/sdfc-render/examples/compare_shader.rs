@@ -8,7 +8,8 @@
 //! (its shader); `... -- compare SCENE.sdf OTHER.wgsl WxH [BASE.wgsl]` renders both, OTHER
 //! against the scene's own shader or, where given, against BASE. A shader written
 //! `S.wgsl:D.bin` reads the bytes of `D.bin` as read-only storage at binding 3
-//! (`scripts/bvh-experiment.py`).
+//! (`scripts/bvh-experiment.py`); OTHER written `instances` is the scene compiled with
+//! `Options::instances` (its union as data).
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -51,8 +52,21 @@ fn shader(arg: &str) -> Result<(String, Option<Vec<u8>>), Error> {
 }
 
 fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(), Error> {
-    let compiled = compile(&std::fs::read_to_string(scene)?)?;
-    let other = shader(other)?;
+    let source = std::fs::read_to_string(scene)?;
+    let compiled = compile(&source)?;
+    let other = if other == "instances" {
+        let opts = sdfc_wgsl::Options {
+            instances: true,
+            ..sdfc_wgsl::Options::default()
+        };
+        let c = sdfc_wgsl::compile(&source, &opts).map_err(|_| "the scene does not compile")?;
+        if c.data.is_empty() {
+            return Err("the scene's union is not emitted as data".into());
+        }
+        (c.wgsl, Some(c.data))
+    } else {
+        shader(other)?
+    };
     let base = match base {
         Some(b) => shader(b)?,
         None => (compiled.wgsl.clone(), None),

@@ -61,6 +61,8 @@ pub struct Shared {
     pub(crate) render_bind_layout: wgpu::BindGroupLayout,
     pub(crate) eval_bind_layout: wgpu::BindGroupLayout,
     pub(crate) interp_bind_layout: wgpu::BindGroupLayout,
+    /// [`Kind::RenderData`]'s.
+    pub(crate) data_bind_layout: wgpu::BindGroupLayout,
     pub(crate) pipelines: Pipelines,
     /// Whether an interpreted frame has been drawn: the interpreter's pipeline is then
     /// ready to run at once (see [`Renderer::warm_interpreter`]).
@@ -347,6 +349,7 @@ impl Renderer {
         let (render_bind_layout, render_layout) = layouts(&device, false, 0);
         let (eval_bind_layout, eval_layout) = layouts(&device, true, 0);
         let (interp_bind_layout, interp_layout) = layouts(&device, false, 2);
+        let (data_bind_layout, data_layout) = layouts(&device, false, 1);
         let errors = scopes.pop();
         if !errors.is_empty() {
             return Err(RenderError::Device(errors.join("; ")));
@@ -361,11 +364,12 @@ impl Renderer {
             pipelines: Pipelines::new(
                 device_handle,
                 sink.clone(),
-                [render_layout, eval_layout, interp_layout],
+                [render_layout, eval_layout, interp_layout, data_layout],
             ),
             render_bind_layout,
             eval_bind_layout,
             interp_bind_layout,
+            data_bind_layout,
             interpreter_warm: std::sync::atomic::AtomicBool::new(false),
             background: Mutex::new(Vec::new()),
             sink,

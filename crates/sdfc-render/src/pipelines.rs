@@ -19,6 +19,9 @@ pub(crate) enum Kind {
     Eval,
     /// The interpreted marcher: the render interface plus the read-only bytecode and data.
     Interpreted,
+    /// A render shader that reads its scene's union as data: the render interface plus the
+    /// read-only data at binding 3 (`sdfc_wgsl::Compiled::data`).
+    RenderData,
 }
 
 pub(crate) struct CachedPipeline {
@@ -41,8 +44,9 @@ struct Slot {
 pub(crate) struct Pipelines {
     device: wgpu::Device,
     sink: Arc<ErrorSink>,
-    /// The pipeline layouts of [`Kind::Render`], [`Kind::Eval`] and [`Kind::Interpreted`].
-    layouts: [wgpu::PipelineLayout; 3],
+    /// The pipeline layouts of [`Kind::Render`], [`Kind::Eval`], [`Kind::Interpreted`] and
+    /// [`Kind::RenderData`].
+    layouts: [wgpu::PipelineLayout; 4],
     slots: Mutex<HashMap<u64, Vec<Arc<Slot>>>>,
     compilations: AtomicUsize,
 }
@@ -51,7 +55,7 @@ impl Pipelines {
     pub(crate) fn new(
         device: wgpu::Device,
         sink: Arc<ErrorSink>,
-        layouts: [wgpu::PipelineLayout; 3],
+        layouts: [wgpu::PipelineLayout; 4],
     ) -> Pipelines {
         Pipelines {
             device,
@@ -122,6 +126,7 @@ impl Pipelines {
             Kind::Render => (&self.layouts[0], "main"),
             Kind::Eval => (&self.layouts[1], "eval_main"),
             Kind::Interpreted => (&self.layouts[2], "main"),
+            Kind::RenderData => (&self.layouts[3], "main"),
         };
         self.compilations.fetch_add(1, Ordering::Relaxed);
         let scopes = Scopes::push(&self.device);

@@ -111,17 +111,19 @@ impl Timer {
 }
 
 impl Renderer {
-    /// Renders a compiled scene (the whole shader: not the library form). Blocks until the
+    /// Renders a compiled scene (the whole shader: not the library form), with its union's
+    /// data where it was emitted as data (`sdfc_wgsl::Options::instances`). Blocks until the
     /// pixels are back on the CPU.
     pub fn render(&self, scene: &Compiled, opts: &RenderOptions) -> Result<Frame, RenderError> {
         if scene.is_library() {
             return Err(RenderError::LibraryForm);
         }
-        self.render_wgsl(scene.program(), &scene.wgsl, opts)
+        let data = (!scene.data.is_empty()).then_some(&scene.data[..]);
+        self.render_text(scene.program(), &scene.wgsl, data, opts)
     }
 
     /// Renders `wgsl`, a full shader emitted for `program` (the program gives the params'
-    /// layout and defaults).
+    /// layout and defaults) that reads no data.
     pub fn render_wgsl(
         &self,
         program: &Program,
@@ -132,8 +134,8 @@ impl Renderer {
     }
 
     /// Renders `wgsl` as [`Renderer::render_wgsl`] does, with `data` bound as read-only
-    /// storage at binding 3 (and 16 zero bytes at binding 4, the interpreter's layout): the
-    /// hook of experiments on shaders that read their scene from a buffer
+    /// storage at binding 3, as [`Renderer::render`] binds a scene's: the hook of
+    /// experiments on shaders that read their scene from a buffer
     /// (`scripts/bvh-experiment.py`, the `compare_shader` example). Not an API.
     #[doc(hidden)]
     pub fn render_wgsl_with_data(
@@ -159,17 +161,22 @@ impl Renderer {
         // A lost device fails at once, before a pipeline is built on it.
         self.check_health()?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        // Data goes to the interpreter's layout, whose bindings 3 and 4 are read-only storage.
         let (kind, layout, inputs) = match data {
             None => (Kind::Render, &self.render_bind_layout, vec![]),
-            Some(data) => (
-                Kind::Interpreted,
-                &self.interp_bind_layout,
-                vec![
-                    ("sdfc experiment data", data),
-                    ("sdfc unused", &[0u8; 16][..]),
-                ],
-            ),
+            Some(data) => {
+                if data.len() as u64 > self.max_buffer_bytes() {
+                    return Err(RenderError::Device(format!(
+                        "the scene's data needs {} KiB in one buffer, and this device allows {} KiB",
+                        data.len() >> 10,
+                        self.max_buffer_bytes() >> 10
+                    )));
+                }
+                (
+                    Kind::RenderData,
+                    &self.data_bind_layout,
+                    vec![("sdfc scene data", data)],
+                )
+            }
         };
         let pipeline = self.pipeline(kind, wgsl)?;
         let frame = params::frame_bytes(header(opts), &params);

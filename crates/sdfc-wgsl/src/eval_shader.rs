@@ -16,7 +16,7 @@ use std::fmt::Write;
 
 /// The validated evaluation shader of a compiled scene.
 pub fn eval_shader(program: &Program) -> Result<String, Failure> {
-    let mut s = module::emit(program, true);
+    let mut s = module::emit(program, true, None);
     let funcs = [&program.distance, &program.material]
         .into_iter()
         .chain(&program.groups);

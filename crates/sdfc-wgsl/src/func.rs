@@ -35,6 +35,24 @@ pub fn wgsl_type(ty: Ty) -> &'static str {
 /// (named `k`) and one lookup of the index's materials at the end; the vector selects it
 /// replaces are not emitted.
 pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
+    emit_with(f, groups, consts, doc, None)
+}
+
+/// Emits the distance function of one kind of a union's instances (`crate::instances`) as
+/// `name(p: vec3<f32>, a0: vec4<u32>, ...) -> f32`, with `vec4s` such parameters: its
+/// `Op::Param(i)` nodes (of types `tys`) are the instance's arguments, read from the record's
+/// vec4s (`crate::instances::arg_word`), not the scene's params.
+pub fn emit_template(f: &Func, tys: &[Ty], vec4s: usize, consts: &Consts, doc: &str) -> String {
+    emit_with(f, &[], consts, doc, Some((tys, vec4s)))
+}
+
+fn emit_with(
+    f: &Func,
+    groups: &[Func],
+    consts: &Consts,
+    doc: &str,
+    template: Option<(&[Ty], usize)>,
+) -> String {
     let g = &f.graph;
     let plan = material_index::plan(f);
     let plan = plan.as_ref();
@@ -144,7 +162,7 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
             .iter()
             .map(|a| text[a.index()].as_str())
             .collect();
-        let (expr, inline) = expression(g, id, &args, consts);
+        let (expr, inline) = expression(g, id, &args, consts, template);
         if inline || spelled_inline[id.index()] || plan.is_some_and(|p| p.inline[id.index()]) {
             text[id.index()] = expr;
             continue;
@@ -180,6 +198,18 @@ pub fn emit(f: &Func, groups: &[Func], consts: &Consts, doc: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "// {doc}");
     match f.kind {
+        FuncKind::Distance if template.is_some() => {
+            let n = template.map_or(0, |t| t.1);
+            let params: Vec<String> = (0..n).map(|v| format!(", a{v}: vec4<u32>")).collect();
+            let _ = writeln!(
+                s,
+                "fn {}(p: vec3<f32>{}) -> f32 {{",
+                f.name,
+                params.concat()
+            );
+            s += &parts[0];
+            let _ = writeln!(s, "    return {};", r[0]);
+        }
         FuncKind::Distance => {
             let _ = writeln!(s, "fn {}(p: vec3<f32>) -> f32 {{", f.name);
             s += &parts[0];
@@ -375,7 +405,13 @@ fn operand(s: &str) -> String {
 }
 
 /// The WGSL expression of a node, and whether it is simple enough to inline at each use.
-fn expression(g: &Graph, id: NodeId, a: &[&str], consts: &Consts) -> (String, bool) {
+fn expression(
+    g: &Graph,
+    id: NodeId,
+    a: &[&str],
+    consts: &Consts,
+    template: Option<(&[Ty], usize)>,
+) -> (String, bool) {
     let node = g.node(id);
     let bin = |sym: &str| format!("{} {sym} {}", operand(a[0]), operand(a[1]));
     match node.op {
@@ -396,7 +432,27 @@ fn expression(g: &Graph, id: NodeId, a: &[&str], consts: &Consts) -> (String, bo
                 Ty::Vec2 => "xy",
                 _ => "xyz",
             };
-            (format!("scene_params[{i}].{sw}"), true)
+            match template {
+                // The argument's words, loaded once into a `let`.
+                Some((tys, _)) => {
+                    let at: usize = tys[..i as usize].iter().map(|t| t.width()).sum();
+                    let word = |k: usize| {
+                        let (v, lane) = crate::instances::arg_word(at + k);
+                        format!("a{v}.{}", ["x", "y", "z", "w"][lane])
+                    };
+                    let text = match node.ty {
+                        Ty::F32 => format!("bitcast<f32>({})", word(0)),
+                        _ => format!(
+                            "bitcast<vec3<f32>>(vec3<u32>({}, {}, {}))",
+                            word(0),
+                            word(1),
+                            word(2)
+                        ),
+                    };
+                    (text, false)
+                }
+                None => (format!("scene_params[{i}].{sw}"), true),
+            }
         }
         // Only reachable if a lambda argument escaped substitution; zero keeps WGSL valid.
         Op::LambdaArg { .. } => (literal::value(&sdfc_ir::eval::zero_of(node.ty)), true),

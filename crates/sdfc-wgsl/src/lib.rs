@@ -20,6 +20,9 @@
 //!   `aov_out[2 i + 1] = (march steps, 0, 0, 0)`, for the ray through the pixel centre. Depth is
 //!   the distance t along the ray (spec section 8), or `-1` on a miss (WGSL has no portable
 //!   infinity; the renderer turns it into `inf`). When AOVs are off a 32-byte buffer will do.
+//! - With [`Options::instances`], where the scene's root union was emitted as data:
+//!   `@group(0) @binding(3) var<storage, read> scene_data: array<vec4<u32>>`, the bytes of
+//!   [`Compiled::data`] (layout in `shaders/instances.wgsl`).
 //!
 //! # Library form (`lib`)
 //!
@@ -35,6 +38,7 @@
 pub mod consts;
 pub mod eval_shader;
 pub mod func;
+pub mod instances;
 pub mod interp;
 pub mod literal;
 pub mod marcher;
@@ -62,6 +66,9 @@ pub struct Compiled {
     pub stages: Stages,
     /// Warnings about the scene (placed: their `Display` says line and column).
     pub warnings: Vec<Diagnostic>,
+    /// With [`Options::instances`], where the scene's union was emitted as data: the buffer
+    /// the shader reads at binding 3 (see `shaders/instances.wgsl`); else empty.
+    pub data: Vec<u8>,
     /// Whether `wgsl` is the library form, which has no entry point to render.
     library: bool,
 }
@@ -149,9 +156,14 @@ pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
     let Lowered {
         stages, warnings, ..
     } = lower_here(source, opts)?;
-    let wgsl = emit_checked(&stages.program, opts)?;
+    let plan = opts
+        .instances
+        .then(|| instances::plan(&stages.program))
+        .flatten();
+    let wgsl = emit_checked(&stages.program, opts, plan.as_ref())?;
     Ok(Compiled {
         wgsl,
+        data: plan.map_or_else(Vec::new, |p| p.data()),
         stages,
         warnings,
         library: opts.lib,
@@ -282,15 +294,21 @@ fn joined<T>(handle: std::thread::ScopedJoinHandle<'_, Result<T, Failure>>) -> R
     })
 }
 
-/// Emits and validates; the import-path line (not WGSL) is added after validation.
+/// Emits and validates; the import-path line (not WGSL) is added after validation. The
+/// union is emitted as code whatever [`Options::instances`] says: the data would have
+/// nowhere to go ([`compile`] returns it).
 pub fn emit_validated(program: &Program, opts: &Options) -> Result<String, Failure> {
     opts.check().map_err(Failure::Usage)?;
-    emit_checked(program, opts)
+    emit_checked(program, opts, None)
 }
 
-/// [`emit_validated`] with options already checked.
-fn emit_checked(program: &Program, opts: &Options) -> Result<String, Failure> {
-    let wgsl = module::emit(program, opts.lib);
+/// [`emit_validated`] with options already checked, the union as data where `plan` says.
+fn emit_checked(
+    program: &Program,
+    opts: &Options,
+    plan: Option<&instances::Plan>,
+) -> Result<String, Failure> {
+    let wgsl = module::emit(program, opts.lib, plan);
     if let Err(report) = validate::validate("scene.wgsl", &wgsl) {
         return Err(Failure::Internal { report, wgsl });
     }

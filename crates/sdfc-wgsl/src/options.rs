@@ -13,11 +13,24 @@ pub struct Options {
     /// same near the surface, and a lower bound far from every part of the union. Off by
     /// default until it is measured to win on a device (docs/performance.md).
     pub cull: bool,
+    /// A root union of many instances (a primitive with constant arguments under constant
+    /// moves, turns and uniform scales) emitted as data, walked by one loop over a hierarchy
+    /// of their boxes (`sdfc render --instances`): the shader then reads the buffer
+    /// [`crate::Compiled::data`] at binding 3. Ignored where the scene has no such union
+    /// (`sdfc_ir::instances`); only for the full shader. Off by default: on lavapipe it wins
+    /// from about a thousand shapes (docs/performance.md, "Large unions as data").
+    pub instances: bool,
 }
 
 impl Options {
     /// Whether the options make sense together; the reason, if not.
     pub fn check(&self) -> Result<(), String> {
+        if self.instances && self.lib {
+            return Err(
+                "instances are emitted as data for the full shader: the library form has no buffer to read them from"
+                    .into(),
+            );
+        }
         match (&self.import_path, self.lib) {
             (Some(_), false) => Err("an import path is for the library form: set `lib` too".into()),
             (Some(path), true) => check_import_path(path),

@@ -1,0 +1,449 @@
+//! Large unions as data: a scene whose root is a hard union of many instances (a primitive
+//! with constant arguments under constant rigid moves and uniform scales, with a material)
+//! can be marched from a table of the instances and a hierarchy of their boxes, walked by one
+//! loop, instead of a block of code per shape (docs/performance.md, "Large unions as data").
+//! This module finds such a union and builds the hierarchy; `sdfc-wgsl` lays it out and
+//! emits the walk.
+
+use crate::analysis::analyse;
+use crate::analysis::bounds::Aabb;
+use crate::hash::FxHashMap;
+use crate::passes::fold::const_value_in;
+use crate::scene::Scene;
+use crate::shape::{CombineOp, PointMap, Prim, ShapeId, ShapeKind};
+use crate::types::Ty;
+use crate::value::Value;
+
+/// Unions of fewer children are left as code: the walk would not pay for itself.
+pub const MIN_CHILDREN: usize = 16;
+
+/// A node's box is padded by this share of its size (and as much again absolutely), so
+/// that f32 rounding of the boxes cannot cut an instance's surface.
+const PAD: f64 = 1e-3;
+
+/// One instance: `template`'s distance with arguments `args` at `m * (p - centre) / scale`,
+/// times `scale`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// Index into [`Instances::templates`].
+    pub template: u32,
+    /// The primitive's arguments, as the language takes them.
+    pub args: Vec<Value<f64>>,
+    /// The scene's material index.
+    pub material: u32,
+    /// Column-major, as [`Value::M3`]: a rotation.
+    pub m: [[f64; 3]; 3],
+    /// The same rotation as a unit quaternion (x, y, z, w).
+    pub q: [f64; 4],
+    pub centre: [f64; 3],
+    pub scale: f64,
+    /// The instance's box, in the coordinates the instances were found in.
+    pub lo: [f64; 3],
+    pub hi: [f64; 3],
+}
+
+/// A node of the hierarchy, in depth-first order: its subtree is the nodes from it up to
+/// (not including) `skip`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    pub centre: [f64; 3],
+    pub half: [f64; 3],
+    pub skip: u32,
+    /// For a leaf, its instance (an index into [`Instances::items`]).
+    pub leaf: Option<u32>,
+}
+
+/// A union found as instances, and their hierarchy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instances {
+    /// The kinds of primitive, with their arguments' types.
+    pub templates: Vec<(Prim, Vec<Ty>)>,
+    pub items: Vec<Instance>,
+    /// The hierarchy, one leaf per instance: the root first.
+    pub nodes: Vec<Node>,
+}
+
+/// The root union of `scene` as instances, in coordinates centred on `origin` (the
+/// camera-relative frame the renderer marches in, or the origin), or `None` where the root
+/// (under constant moves, turns, scales and materials) is not a hard union of
+/// [`MIN_CHILDREN`] or more instances: bounded primitives with constant arguments (the
+/// fractals' are compile-time settings of their code, so they are left out).
+pub fn find(scene: &Scene, origin: [f64; 3]) -> Option<Instances> {
+    let mut memo = FxHashMap::default();
+    let (root, outer) = peel(scene, scene.root, Frame::IDENTITY, &mut memo)?;
+    let ShapeKind::Combine {
+        op: CombineOp::Union,
+        smooth: None,
+        children,
+    } = &scene.shape(root).kind
+    else {
+        return None;
+    };
+    if children.len() < MIN_CHILDREN {
+        return None;
+    }
+    let analysis = analyse(scene, false);
+    let mut templates: Vec<(Prim, Vec<Ty>)> = Vec::new();
+    let mut items = Vec::with_capacity(children.len());
+    for &child in children {
+        let (prim_shape, f) = peel(scene, child, outer.clone(), &mut memo)?;
+        let ShapeKind::Prim { prim, args } = &scene.shape(prim_shape).kind else {
+            return None;
+        };
+        if matches!(
+            prim,
+            Prim::Plane
+                | Prim::InfiniteCylinder
+                | Prim::Mandelbulb
+                | Prim::Menger
+                | Prim::Sierpinski
+        ) {
+            return None;
+        }
+        let mut values = Vec::with_capacity(args.len());
+        for a in args {
+            // Scalars and vec3s: what the emitted kinds read from the data.
+            match const_value_in(&scene.values, *a, &mut memo)? {
+                v @ (Value::F(_) | Value::V3(_)) => values.push(v),
+                _ => return None,
+            }
+        }
+        if !(f.s.is_finite() && f.s > 0.0) {
+            return None;
+        }
+        // Turns only (a mirror or a shear has no quaternion): m p + o = m (p - c) with
+        // c = -m^-1 o.
+        let q = quaternion(&f.m)?;
+        let inv = inverse(&f.m)?;
+        let c = mat_vec(&inv, &f.o).map(|x| -x);
+        let key = (*prim, values.iter().map(|v| v.ty()).collect());
+        let template = match templates.iter().position(|k| *k == key) {
+            Some(i) => i as u32,
+            None => {
+                templates.push(key);
+                (templates.len() - 1) as u32
+            }
+        };
+        // The child's box from the analysis where the union is the root; under the root's
+        // own maps, the primitive's box seen through the instance's whole frame.
+        let b = if root == scene.root {
+            analysis.nodes[child.index()].bounds
+        } else {
+            transformed_box(&analysis.nodes[prim_shape.index()].bounds, &f)?
+        };
+        if !b.lo.iter().chain(&b.hi).all(|x| x.is_finite()) {
+            return None;
+        }
+        items.push(Instance {
+            template,
+            args: values,
+            material: f.material.unwrap_or(0),
+            m: f.m,
+            q,
+            centre: [0, 1, 2].map(|a| c[a] - origin[a]),
+            scale: f.s,
+            lo: [0, 1, 2].map(|a| b.lo[a] - origin[a]),
+            hi: [0, 1, 2].map(|a| b.hi[a] - origin[a]),
+        });
+    }
+    let nodes = hierarchy(&items);
+    Some(Instances {
+        templates,
+        items,
+        nodes,
+    })
+}
+
+/// The frame a shape is evaluated in: `local = (m p + o) / s`, the distance times `s`; and
+/// the innermost material set on the way.
+#[derive(Clone)]
+struct Frame {
+    m: [[f64; 3]; 3],
+    o: [f64; 3],
+    s: f64,
+    material: Option<u32>,
+}
+
+impl Frame {
+    const IDENTITY: Frame = Frame {
+        m: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        o: [0.0; 3],
+        s: 1.0,
+        material: None,
+    };
+}
+
+/// Follows constant moves, turns, scales and materials down from `id`: the first other
+/// shape, and the frame composed on the way; `None` where a map is not constant.
+fn peel(
+    scene: &Scene,
+    mut id: ShapeId,
+    mut f: Frame,
+    memo: &mut FxHashMap<crate::graph::NodeId, Option<Value<f64>>>,
+) -> Option<(ShapeId, Frame)> {
+    loop {
+        match &scene.shape(id).kind {
+            ShapeKind::Map {
+                map:
+                    PointMap::Affine {
+                        m: m2,
+                        o: o2,
+                        s: s2,
+                    },
+                child,
+            } => {
+                let m2 = match m2 {
+                    Some(n) => match const_value_in(&scene.values, *n, memo)? {
+                        Value::M3(c) => c,
+                        _ => return None,
+                    },
+                    None => Frame::IDENTITY.m,
+                };
+                let o2 = match o2 {
+                    Some(n) => match const_value_in(&scene.values, *n, memo)? {
+                        Value::V3(v) => v,
+                        _ => return None,
+                    },
+                    None => [0.0; 3],
+                };
+                let s2 = match s2 {
+                    Some(n) => match const_value_in(&scene.values, *n, memo)? {
+                        Value::F(v) => v,
+                        _ => return None,
+                    },
+                    None => 1.0,
+                };
+                // (m2 ((m p + o) / s) + o2) / s2 = (m2 m p + m2 o + s o2) / (s s2).
+                let mo = mat_vec(&m2, &f.o);
+                f.o = [0, 1, 2].map(|i| mo[i] + f.s * o2[i]);
+                f.m = mat_mul(&m2, &f.m);
+                f.s *= s2;
+                id = *child;
+            }
+            ShapeKind::Material { material, child } => {
+                // The innermost material wins.
+                f.material = Some(*material);
+                id = *child;
+            }
+            _ => return Some((id, f)),
+        }
+    }
+}
+
+/// The world box of a shape whose local box is `b`, seen through frame `f`: the eight
+/// corners of `b` mapped back, `p = m^-1 (s local - o)`.
+fn transformed_box(b: &Aabb, f: &Frame) -> Option<Aabb> {
+    if !b.lo.iter().chain(&b.hi).all(|x| x.is_finite()) {
+        return None;
+    }
+    let inv = inverse(&f.m)?;
+    let mut out = Aabb {
+        lo: [f64::INFINITY; 3],
+        hi: [f64::NEG_INFINITY; 3],
+    };
+    for k in 0..8 {
+        let corner = [0, 1, 2].map(|a| if k >> a & 1 == 0 { b.lo[a] } else { b.hi[a] });
+        let p = mat_vec(&inv, &[0, 1, 2].map(|a| f.s * corner[a] - f.o[a]));
+        for (a, x) in p.into_iter().enumerate() {
+            out.lo[a] = out.lo[a].min(x);
+            out.hi[a] = out.hi[a].max(x);
+        }
+    }
+    Some(out)
+}
+
+/// `a b` for column-major 3x3 matrices.
+fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    [0, 1, 2].map(|col| mat_vec(a, &b[col]))
+}
+
+/// `a v` for a column-major 3x3 matrix.
+fn mat_vec(a: &[[f64; 3]; 3], v: &[f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|row| (0..3).map(|k| a[k][row] * v[k]).sum())
+}
+
+/// The unit quaternion (x, y, z, w) of a rotation matrix (column-major), or `None` where the
+/// matrix is not a rotation (to 1e-6).
+fn quaternion(m: &[[f64; 3]; 3]) -> Option<[f64; 4]> {
+    let e = |r: usize, c: usize| m[c][r];
+    for i in 0..3 {
+        for j in 0..3 {
+            let dot: f64 = (0..3).map(|k| m[i][k] * m[j][k]).sum();
+            if (dot - if i == j { 1.0 } else { 0.0 }).abs() > 1e-6 {
+                return None;
+            }
+        }
+    }
+    let det = e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1))
+        - e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0))
+        + e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0));
+    if det < 0.0 {
+        return None;
+    }
+    // Shepperd's method: from the largest of w, x, y, z.
+    let t = e(0, 0) + e(1, 1) + e(2, 2);
+    let q = if t > 0.0 {
+        let s = 0.5 / (t + 1.0).sqrt();
+        [
+            (e(2, 1) - e(1, 2)) * s,
+            (e(0, 2) - e(2, 0)) * s,
+            (e(1, 0) - e(0, 1)) * s,
+            0.25 / s,
+        ]
+    } else if e(0, 0) > e(1, 1) && e(0, 0) > e(2, 2) {
+        let s = 2.0 * (1.0 + e(0, 0) - e(1, 1) - e(2, 2)).sqrt();
+        [
+            0.25 * s,
+            (e(0, 1) + e(1, 0)) / s,
+            (e(0, 2) + e(2, 0)) / s,
+            (e(2, 1) - e(1, 2)) / s,
+        ]
+    } else if e(1, 1) > e(2, 2) {
+        let s = 2.0 * (1.0 + e(1, 1) - e(0, 0) - e(2, 2)).sqrt();
+        [
+            (e(0, 1) + e(1, 0)) / s,
+            0.25 * s,
+            (e(1, 2) + e(2, 1)) / s,
+            (e(0, 2) - e(2, 0)) / s,
+        ]
+    } else {
+        let s = 2.0 * (1.0 + e(2, 2) - e(0, 0) - e(1, 1)).sqrt();
+        [
+            (e(0, 2) + e(2, 0)) / s,
+            (e(1, 2) + e(2, 1)) / s,
+            0.25 * s,
+            (e(1, 0) - e(0, 1)) / s,
+        ]
+    };
+    Some(q)
+}
+
+/// The inverse of a column-major 3x3 matrix, where it is well conditioned.
+fn inverse(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let e = |r: usize, c: usize| a[c][r];
+    let cof = |r: usize, c: usize| {
+        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+        let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
+        e(r1, c1) * e(r2, c2) - e(r1, c2) * e(r2, c1)
+    };
+    let det = e(0, 0) * cof(0, 0) + e(0, 1) * cof(0, 1) + e(0, 2) * cof(0, 2);
+    // (A NaN determinant fails too.)
+    if det.abs().partial_cmp(&1e-12) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    // inv[r][c] (row r, column c) = cof(c, r) / det; stored column-major.
+    Some([0, 1, 2].map(|col| [0, 1, 2].map(|row| cof(col, row) / det)))
+}
+
+/// The hierarchy over the instances' boxes: median splits along the longest axis of their
+/// centres, one instance per leaf.
+fn hierarchy(items: &[Instance]) -> Vec<Node> {
+    let mut nodes = Vec::with_capacity(2 * items.len());
+    let mut idx: Vec<u32> = (0..items.len() as u32).collect();
+    build(items, &mut idx, &mut nodes);
+    nodes
+}
+
+fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
+    let me = nodes.len();
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for &i in idx.iter() {
+        let it = &items[i as usize];
+        for a in 0..3 {
+            lo[a] = lo[a].min(it.lo[a]);
+            hi[a] = hi[a].max(it.hi[a]);
+        }
+    }
+    let centre = [0, 1, 2].map(|a| 0.5 * (lo[a] + hi[a]));
+    let half = [0, 1, 2].map(|a| 0.5 * (hi[a] - lo[a]) * (1.0 + PAD) + PAD);
+    nodes.push(Node {
+        centre,
+        half,
+        skip: 0,
+        leaf: (idx.len() == 1).then_some(idx[0]),
+    });
+    if idx.len() > 1 {
+        let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
+        let extent = |a: usize| {
+            let (mn, mx) = idx
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
+                    (mn.min(mid(i, a)), mx.max(mid(i, a)))
+                });
+            mx - mn
+        };
+        let axis = (0..3).fold(0, |best, a| if extent(a) > extent(best) { a } else { best });
+        // Stable, so that equal centres keep the union's order.
+        idx.sort_by(|&x, &y| mid(x, axis).total_cmp(&mid(y, axis)));
+        let half_len = idx.len() / 2;
+        let (left, right) = idx.split_at_mut(half_len);
+        build(items, left, nodes);
+        build(items, right, nodes);
+    }
+    nodes[me].skip = nodes.len() as u32;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// v turned by the quaternion, as `shaders/instances.wgsl` does it.
+    fn turn(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let u = [q[0], q[1], q[2]];
+        let t = cross(u, v).map(|x| 2.0 * x);
+        let ut = cross(u, t);
+        [0, 1, 2].map(|i| v[i] + q[3] * t[i] + ut[i])
+    }
+
+    #[test]
+    fn a_quaternion_turns_as_its_matrix_does() {
+        // Turns about each axis and a mixed one, through each branch of Shepperd's method.
+        let (c, s) = (0.6f64, 0.8f64);
+        let rx = [[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]];
+        let ry = [[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]];
+        let rz = [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]];
+        let flip_x = [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]];
+        let flip_y = [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]];
+        for m in [rx, ry, rz, flip_x, flip_y, mat_mul(&rx, &mat_mul(&ry, &rz))] {
+            let q = quaternion(&m).expect("a rotation");
+            for v in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, -0.5, 2.0]] {
+                let (a, b) = (turn(q, v), mat_vec(&m, &v));
+                for i in 0..3 {
+                    assert!(
+                        (a[i] - b[i]).abs() < 1e-12,
+                        "{m:?} {v:?}: {a:?} against {b:?}"
+                    );
+                }
+            }
+        }
+        // A mirror and a stretch are not turns.
+        assert!(quaternion(&[[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).is_none());
+        assert!(quaternion(&[[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).is_none());
+    }
+
+    #[test]
+    fn inverse_undoes_a_turn_and_scale() {
+        let (c, s) = (0.6f64, 0.8f64);
+        let m = [
+            [2.0 * c, 0.0, -2.0 * s],
+            [0.0, 2.0, 0.0],
+            [2.0 * s, 0.0, 2.0 * c],
+        ];
+        let inv = inverse(&m).unwrap();
+        let id = mat_mul(&inv, &m);
+        for (i, col) in id.iter().enumerate() {
+            for (j, x) in col.iter().enumerate() {
+                let want = if i == j { 1.0 } else { 0.0 };
+                assert!((x - want).abs() < 1e-12, "{id:?}");
+            }
+        }
+        assert!(inverse(&[[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]).is_none());
+    }
+}

@@ -1,0 +1,171 @@
+//! Large unions as data (`sdfc_ir::instances`): which unions are found, that the instances'
+//! composed transforms give the union's distance (f64 evaluator), and that the hierarchy
+//! holds every instance once, its boxes nested and its skip links right.
+
+use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::instances::{find, Instances};
+use sdfc_ir::value::Value;
+use sdfc_ir::Program;
+
+fn program(src: &str) -> Program {
+    let file = sdfc_syntax::parse(src).expect("parses");
+    let (stages, diags) = sdfc_ir::compile(&file, src.len());
+    match stages {
+        Some(s) => s.program,
+        None => panic!("does not compile: {diags:?}"),
+    }
+}
+
+/// A union of `n` shapes of four kinds, moved, turned and scaled, two with materials.
+fn union(n: usize) -> String {
+    let mut s = String::from(
+        "material red { color: [1, 0, 0] }\nmaterial blue { color: [0, 0, 1] }\nscene = union(\n",
+    );
+    for i in 0..n {
+        let shape = match i % 4 {
+            0 => "sphere(0.4)".to_string(),
+            1 => format!("box([0.5, 0.3, 0.4]).rotate_y({}deg).material(red)", 17 * i),
+            2 => format!("torus(0.4, 0.1).rotate_x({}deg).scale(1.3)", 11 * i),
+            _ => "capsule([0, 0, 0], [0, 0.6, 0], 0.15).rotate_z(30deg).material(blue)".into(),
+        };
+        let (x, z) = (i % 7, i / 7);
+        s += &format!(
+            "    {shape}.translate([{x}.5, {}, -{z}]),\n",
+            (i % 3) as f64 * 0.7
+        );
+    }
+    s + ");\n"
+}
+
+fn found(src: &str) -> Option<(Program, Instances)> {
+    let p = program(src);
+    let f = find(&p.scene, [0.0; 3])?;
+    Some((p, f))
+}
+
+#[test]
+fn a_union_of_moved_turned_and_scaled_shapes_is_found() {
+    let (p, f) = found(&union(40)).expect("found");
+    assert_eq!(f.items.len(), 40);
+    assert_eq!(f.templates.len(), 4, "four kinds of primitive");
+    let materials: Vec<u32> = f.items.iter().take(4).map(|i| i.material).collect();
+    let red = p
+        .scene
+        .materials
+        .iter()
+        .position(|m| m.name == "red")
+        .unwrap() as u32;
+    let blue = p
+        .scene
+        .materials
+        .iter()
+        .position(|m| m.name == "blue")
+        .unwrap() as u32;
+    assert_eq!(materials, vec![0, red, 0, blue]);
+}
+
+#[test]
+fn other_unions_are_left_as_code() {
+    // Too few children.
+    assert!(found(&union(15)).is_none());
+    // A smooth union, a param in a child, an unbounded child, a child that is not a
+    // primitive under maps.
+    let variants = [
+        union(20).replace(");\n", "    smooth: 0.1,\n);\n"),
+        format!(
+            "param r = 0.4;\n{}",
+            union(20).replace("sphere(0.4)", "sphere(r)")
+        ),
+        union(20).replacen("sphere(0.4)", "plane([0, 1, 0], 0)", 1),
+        union(20).replacen("sphere(0.4)", "sphere(0.4).onion(0.05)", 1),
+    ];
+    for v in variants {
+        let p = program(&v);
+        assert!(find(&p.scene, [0.0; 3]).is_none(), "{v}");
+    }
+}
+
+/// Every instance's template at `m (p - centre) / scale`, times `scale`, is the union's child:
+/// their minimum is the scene's distance, at points all over the union.
+#[test]
+fn the_instances_give_the_union_s_distance() {
+    let (p, f) = found(&union(40)).expect("found");
+    let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &f.templates);
+    let mut worst = 0.0f64;
+    for k in 0..500 {
+        let t = k as f64;
+        let q = [
+            -1.0 + 9.0 * (t * 0.618).fract(),
+            -1.0 + 3.5 * (t * 0.414).fract(),
+            -6.5 + 8.0 * (t * 0.732).fract(),
+        ];
+        let want = match eval_func(&p.distance, &p.groups, &Inputs::at(q))[0] {
+            Value::F(d) => d,
+            v => panic!("{v:?}"),
+        };
+        let got = f
+            .items
+            .iter()
+            .map(|i| {
+                let d = [0, 1, 2].map(|a| q[a] - i.centre[a]);
+                let local = [0, 1, 2].map(|r| (0..3).map(|c| i.m[c][r] * d[c]).sum::<f64>());
+                let local = local.map(|x| x / i.scale);
+                let f = &templates[i.template as usize];
+                let inputs = Inputs {
+                    params: i.args.clone(),
+                    ..Inputs::at(local)
+                };
+                match eval_func(f, &[], &inputs)[0] {
+                    Value::F(d) => d * i.scale,
+                    v => panic!("{v:?}"),
+                }
+            })
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max((got - want).abs() / want.abs().max(1.0));
+    }
+    // The program's constants are f32 (its rotations' sines and cosines rounded): the
+    // composed f64 transforms agree to f32 precision.
+    assert!(worst < 1e-6, "largest relative difference {worst:e}");
+}
+
+#[test]
+fn the_hierarchy_holds_each_instance_once_in_nested_boxes() {
+    let (_, f) = found(&union(40)).expect("found");
+    assert_eq!(f.nodes.len(), 2 * 40 - 1);
+    assert_eq!(f.nodes[0].skip as usize, f.nodes.len());
+    let mut leaves: Vec<u32> = f.nodes.iter().filter_map(|n| n.leaf).collect();
+    leaves.sort_unstable();
+    assert_eq!(leaves, (0..40).collect::<Vec<u32>>());
+    for (i, n) in f.nodes.iter().enumerate() {
+        let end = n.skip as usize;
+        assert!(end > i && end <= f.nodes.len());
+        assert_eq!(n.leaf.is_some(), end == i + 1, "a leaf's subtree is itself");
+        // Every node in the subtree, and every instance under it, lies in its box.
+        for m in &f.nodes[i + 1..end] {
+            assert!(m.skip as usize <= end, "subtrees nest");
+            for a in 0..3 {
+                assert!((m.centre[a] - n.centre[a]).abs() + m.half[a] <= n.half[a] + 1e-12);
+            }
+        }
+        if let Some(l) = n.leaf {
+            let it = &f.items[l as usize];
+            for a in 0..3 {
+                assert!(it.lo[a] >= n.centre[a] - n.half[a] && it.hi[a] <= n.centre[a] + n.half[a]);
+            }
+        }
+    }
+}
+
+#[test]
+fn instances_are_found_relative_to_an_origin() {
+    let p = program(&union(20));
+    let at = find(&p.scene, [0.0; 3]).unwrap();
+    let origin = [1e5, -3.0, 2.5];
+    let moved = find(&p.scene, origin).unwrap();
+    for (a, b) in at.items.iter().zip(&moved.items) {
+        for (k, o) in origin.into_iter().enumerate() {
+            assert!((a.centre[k] - o - b.centre[k]).abs() < 1e-9);
+            assert!((a.lo[k] - o - b.lo[k]).abs() < 1e-9);
+        }
+    }
+}

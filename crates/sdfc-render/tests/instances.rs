@@ -1,0 +1,174 @@
+//! A union emitted as data (`sdfc_wgsl::Options::instances`, `sdfc render --instances`):
+//! the same picture as the union emitted as code, against the f64 reference as well, near
+//! the origin and 1e5 away from it (the camera-relative frame).
+
+mod common;
+
+use common::{compile, renderer};
+use sdfc_reference::metrics::{self, GpuFrame, Metrics};
+use sdfc_render::{Frame, RenderOptions, Renderer};
+use sdfc_wgsl::Options;
+
+/// The generated grid of `n` shapes (spheres, turned boxes, turned tori, three materials)
+/// seen from close by, every ray among the shapes, moved by `offset` with its camera.
+fn close_grid(n: usize, offset: f64) -> String {
+    let src = sdfc_tests::grid_scene(n);
+    let far = "camera { position: [0, 20, 60], target: [0, 0, 0]";
+    assert!(src.contains(far), "the generated grid's camera has changed");
+    let close = src.replace(
+        far,
+        &format!(
+            "camera {{ position: [{}, 4, 6], target: [{}, 1.5, -2]",
+            offset - 1.0,
+            offset - 2.0
+        ),
+    );
+    close
+        .replace("scene = union(", "scene = translate(union(")
+        .replace("\n);\n", &format!("\n), [{offset}, 0, 0]);\n"))
+}
+
+fn with_instances(name: &str, src: &str) -> sdfc_wgsl::Compiled {
+    let opts = Options {
+        instances: true,
+        ..Options::default()
+    };
+    let c = sdfc_wgsl::compile(src, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(
+        !c.data.is_empty(),
+        "{name}: the union was not emitted as data"
+    );
+    c
+}
+
+const W: u32 = 64;
+const H: u32 = 48;
+
+/// A frame with AOVs and its metrics against `reference`.
+fn against(
+    r: &Renderer,
+    c: &sdfc_wgsl::Compiled,
+    reference: &sdfc_reference::Image,
+) -> (Frame, Metrics) {
+    let opts = RenderOptions {
+        aovs: true,
+        ..RenderOptions::sized(W, H)
+    };
+    let frame = r.render(c, &opts).expect("renders");
+    let aovs = frame.aovs.as_ref().expect("AOVs");
+    let m = metrics::compare(
+        &GpuFrame {
+            width: W,
+            height: H,
+            rgba: &frame.rgba,
+            depth: &aovs.depth,
+            normal: &aovs.normal,
+            steps: &aovs.steps,
+        },
+        reference,
+    );
+    (frame, m)
+}
+
+/// The data form against the code form and both against the f64 reference, at 64x48: the
+/// same hits and depths, and no larger error than the code's.
+fn check(name: &str, src: &str) {
+    let Some(r) = renderer() else { return };
+    let code = compile(name, src);
+    let reference = sdfc_reference::render(code.program(), &sdfc_reference::Options::sized(W, H));
+    let (data_frame, d) = against(r, &with_instances(name, src), &reference);
+    let (code_frame, c) = against(r, &code, &reference);
+    let (d, c) = (&d, &c);
+    eprintln!(
+        "{name}: hits {}/{} and {}/{}, mismatches {}+{} and {}+{}, depth p99.9 {:.2e} and {:.2e}, \
+         normal median {:.3} and {:.3} deg, PSNR {:.1} and {:.1} dB, steps {:.1} and {:.1}",
+        d.both_hit,
+        d.reference_hits,
+        c.both_hit,
+        c.reference_hits,
+        d.mismatch_interior,
+        d.mismatch_silhouette,
+        c.mismatch_interior,
+        c.mismatch_silhouette,
+        d.depth_p999,
+        c.depth_p999,
+        d.normal_median_deg,
+        c.normal_median_deg,
+        d.psnr_db,
+        c.psnr_db,
+        d.mean_steps_gpu,
+        c.mean_steps_gpu
+    );
+    assert!(
+        d.reference_hits > (W * H / 3) as usize,
+        "{name}: the grid fills the view"
+    );
+    assert_eq!(d.nonfinite, 0);
+    assert_eq!(
+        d.mismatch_interior, 0,
+        "{name}: interior hit/miss mismatches"
+    );
+    assert!(
+        d.mismatch_silhouette <= c.mismatch_silhouette + 2,
+        "{name}: silhouettes"
+    );
+    assert!(
+        d.depth_median <= 1e-6,
+        "{name}: depth median {:e}",
+        d.depth_median
+    );
+    assert!(d.normal_median_deg <= 0.1, "{name}: normals");
+    // The two shaders' own pictures: the same hits, the same depths.
+    let (da, ca) = (
+        data_frame.aovs.as_ref().unwrap(),
+        code_frame.aovs.as_ref().unwrap(),
+    );
+    let flips = da
+        .depth
+        .iter()
+        .zip(&ca.depth)
+        .filter(|(a, b)| a.is_finite() != b.is_finite())
+        .count();
+    let far = da
+        .depth
+        .iter()
+        .zip(&ca.depth)
+        .filter(|(a, b)| a.is_finite() && b.is_finite() && (*a - *b).abs() > 1e-4 * b.abs())
+        .count();
+    assert!(
+        flips <= 2 && far <= 2,
+        "{name}: {flips} hit/miss and {far} depths differ"
+    );
+    let colours = data_frame
+        .rgba
+        .iter()
+        .zip(&code_frame.rgba)
+        .filter(|(a, b)| a.abs_diff(**b) > 2)
+        .count();
+    assert!(colours <= 3 * 8, "{name}: {colours} channels differ");
+}
+
+#[test]
+fn a_grid_of_120_shapes_as_data_draws_as_code_does() {
+    check("grid_120", &close_grid(120, 0.0));
+}
+
+#[test]
+fn a_grid_far_from_the_origin_as_data_draws_as_code_does() {
+    check("grid_120 at 1e5", &close_grid(120, 1e5));
+}
+
+/// The option changes nothing where the root is not a union of instances.
+#[test]
+fn a_scene_without_such_a_union_is_code() {
+    let opts = Options {
+        instances: true,
+        ..Options::default()
+    };
+    let src = "scene = sphere(1) | box([1, 1, 1]).translate([2, 0, 0]);";
+    let c = sdfc_wgsl::compile(src, &opts).unwrap();
+    assert!(c.data.is_empty());
+    assert_eq!(c.wgsl, compile("plain", src).wgsl);
+    let Some(r) = renderer() else { return };
+    r.render(&c, &RenderOptions::sized(8, 8)).unwrap();
+}

@@ -1,0 +1,99 @@
+// The scene's union as data (binding 3, `sdfc render --instances`), vec4s of 32-bit words
+// (floats as their bits): a hierarchy of boxes in depth-first order, two vec4 a node (centre
+// and skip link, the node past its subtree; half size, and 0 or, for a leaf, 1 + the index of
+// its instance's record), then the records: a unit quaternion; centre and scale; kind,
+// material and the primitive's arguments, flat, in as many vec4 as they need. An instance is
+// its kind's distance with its arguments at turn(q, p - centre) / scale, times scale. (Whole
+// vec4 loads: on lavapipe four scalar loads cost about four times one vec4 load.)
+@group(0) @binding(3) var<storage, read> scene_data: array<vec4<u32>>;
+
+// The leaf word of the instance nearest at this invocation's last call, or 0. Consecutive
+// calls of a march are at nearby points, so evaluating it first starts the walk from a tight
+// best distance. The value does not depend on it (see scene_nearest).
+var<private> scene_hint: u32;
+
+// The union's distance, and the leaf word of the instance that gave it (0 if none did).
+struct Nearest {
+    distance: f32,
+    leaf: u32,
+}
+
+// One instance's distance, from its leaf word.
+fn instance_distance(p: vec3<f32>, leaf: u32) -> f32 {
+    let r = leaf - 1u;
+    let q = bitcast<vec4<f32>>(scene_data[r]);
+    let c = bitcast<vec4<f32>>(scene_data[r + 1u]);
+    let v = p - c.xyz;
+    // v turned by the quaternion q: v + q.w t + q.xyz x t, with t = 2 q.xyz x v.
+    let t = 2.0 * cross(q.xyz, v);
+    let local = (v + q.w * t + cross(q.xyz, t)) / c.w;
+    return instance_kind(local, r) * c.w;
+}
+
+// One loop over the hierarchy, with no stack: a node whose box is no nearer than the best
+// distance so far is skipped with its subtree; beyond its box's reach (its half diagonal)
+// the subtree answers with the box's distance, a lower bound of its field; a leaf's instance
+// is evaluated; otherwise the walk goes down. The result does not depend on the order of the
+// walk (or on the hint): every instance contributes its distance, or the box distance of the
+// node it lies under where the point is beyond that node's reach, and a skipped subtree
+// contributes at least the best distance when it was skipped, which is never below the end
+// result. Near every surface that is the union's exact distance.
+fn scene_nearest(p: vec3<f32>) -> Nearest {
+    var d = 3.0e38;
+    var nearest = 0u;
+    if scene_hint != 0u {
+        d = instance_distance(p, scene_hint);
+        nearest = scene_hint;
+    }
+    // The root's skip link: the number of nodes.
+    let end = scene_data[0].w;
+    var i = 0u;
+    loop {
+        if i >= end {
+            break;
+        }
+        let a = scene_data[2u * i];
+        let b = scene_data[2u * i + 1u];
+        let half = bitcast<vec3<f32>>(b.xyz);
+        let q = abs(p - bitcast<vec3<f32>>(a.xyz)) - half;
+        let bd = length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
+        if bd >= d {
+            i = a.w;
+            continue;
+        }
+        if bd > length(half) {
+            d = bd;
+            i = a.w;
+            continue;
+        }
+        if b.w == 0u {
+            i = i + 1u;
+            continue;
+        }
+        let di = instance_distance(p, b.w);
+        if di < d {
+            d = di;
+            nearest = b.w;
+        }
+        i = a.w;
+    }
+    if nearest != 0u {
+        scene_hint = nearest;
+    }
+    return Nearest(d, nearest);
+}
+
+// The signed distance from p to the scene (the march loop calls only this).
+fn scene_distance(p: vec3<f32>) -> f32 {
+    return scene_nearest(p).distance;
+}
+
+// The material at a surface point p: the nearest instance's (called once per hit).
+fn scene_material(p: vec3<f32>) -> SceneMaterial {
+    let leaf = scene_nearest(p).leaf;
+    var material = 0u;
+    if leaf != 0u {
+        material = scene_data[leaf + 1u].y;
+    }
+    return material_by_index(material);
+}

@@ -16,6 +16,20 @@ fn scene_to_validated_wgsl(bencher: divan::Bencher, n: usize) {
     bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &Options::default()).is_ok());
 }
 
+/// The same with the union emitted as data (`Options::instances`, `sdfc render --instances`):
+/// the WGSL no longer grows with the shapes, and the data is built.
+#[divan::bench(args = [1000, 5000], sample_count = 20)]
+fn scene_to_validated_wgsl_as_data(bencher: divan::Bencher, n: usize) {
+    let src = grid_scene(n);
+    let opts = Options {
+        instances: true,
+        ..Options::default()
+    };
+    bencher.bench(|| {
+        sdfc_wgsl::compile(divan::black_box(&src), &opts).map_or(0, |c| c.data.len())
+    });
+}
+
 #[divan::bench(sample_count = 20)]
 fn stage_parse_5000(bencher: divan::Bencher) {
     let src = grid_scene(5000);

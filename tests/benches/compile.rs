@@ -25,9 +25,7 @@ fn scene_to_validated_wgsl_as_data(bencher: divan::Bencher, n: usize) {
         instances: true,
         ..Options::default()
     };
-    bencher.bench(|| {
-        sdfc_wgsl::compile(divan::black_box(&src), &opts).map_or(0, |c| c.data.len())
-    });
+    bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &opts).map_or(0, |c| c.data.len()));
 }
 
 #[divan::bench(sample_count = 20)]

@@ -49,18 +49,11 @@ fn a_union_of_moved_turned_and_scaled_shapes_is_found() {
     assert_eq!(f.items.len(), 40);
     assert_eq!(f.templates.len(), 4, "four kinds of primitive");
     let materials: Vec<u32> = f.items.iter().take(4).map(|i| i.material).collect();
-    let red = p
-        .scene
-        .materials
-        .iter()
-        .position(|m| m.name == "red")
-        .unwrap() as u32;
-    let blue = p
-        .scene
-        .materials
-        .iter()
-        .position(|m| m.name == "blue")
-        .unwrap() as u32;
+    let index = |name: &str| {
+        let found = p.scene.materials.iter().position(|m| m.name == name);
+        found.expect("declared") as u32
+    };
+    let (red, blue) = (index("red"), index("blue"));
     assert_eq!(materials, vec![0, red, 0, blue]);
 }
 

@@ -1,6 +1,6 @@
 //! A large union emitted as data (`Options::instances`): the instances and their hierarchy
 //! (`sdfc_ir::instances`) laid out in the buffer at binding 3, and the WGSL that walks them
-//! (`shaders/instances.wgsl`) with one function per template.
+//! (`shaders/instances.wgsl`) with one function per kind of primitive.
 
 use crate::consts::Consts;
 use crate::func::emit_template;
@@ -15,7 +15,7 @@ use std::fmt::Write;
 /// The walk, `scene_distance` and `scene_material` over the data.
 const WALK: &str = include_str!("../../../shaders/instances.wgsl");
 
-/// A program's root union as data: what was found, and its templates' distance functions.
+/// A program's root union as data: what was found, and its kinds' distance functions.
 pub struct Plan {
     pub found: Instances,
     pub templates: Vec<Func>,
@@ -88,7 +88,7 @@ impl Plan {
         words.iter().flat_map(|w| w.to_le_bytes()).collect()
     }
 
-    /// The WGSL of the scene functions: the templates, their `switch`, the materials'
+    /// The WGSL of the scene functions: the kinds' functions, their `switch`, the materials'
     /// lookup and the walk.
     pub fn emit(&self, materials: &[Material], consts: &Consts) -> String {
         let mut s = String::new();

@@ -19,6 +19,8 @@ pub struct Request<'a> {
     pub size: (u32, u32),
     pub time: f32,
     pub cull: bool,
+    /// The final frame's union as data (`--instances`).
+    pub instances: bool,
     pub grace: Duration,
     pub preview_scale: Option<u32>,
     /// Render again each time the scene file changes, until interrupted.
@@ -30,6 +32,7 @@ impl Request<'_> {
     pub fn emit(&self) -> sdfc_wgsl::Options {
         sdfc_wgsl::Options {
             cull: self.cull,
+            instances: self.instances,
             ..sdfc_wgsl::Options::default()
         }
     }

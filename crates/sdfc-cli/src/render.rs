@@ -43,8 +43,9 @@ pub struct Args {
     /// Read the scene's root union from a buffer, as instances in a hierarchy of boxes walked
     /// by one loop, instead of compiling each shape: for a union of many constant shapes
     /// (moved, turned, scaled, with materials), whose pipeline then builds in about a second
-    /// whatever its size. A scene without such a union is compiled as usual, with a note
-    #[arg(long, conflicts_with_all = ["interpreted", "live", "cull"])]
+    /// whatever its size. A scene without such a union is compiled as usual, with a note.
+    /// With --live, the final frame's (the preview stays interpreted)
+    #[arg(long, conflicts_with_all = ["interpreted", "cull"])]
     instances: bool,
     /// A first picture as soon as possible: if the scene's specialised pipeline is not built
     /// within the grace period, the interpreted marcher draws a preview into OUT while it
@@ -322,6 +323,7 @@ pub fn run(a: Args) -> Outcome {
             size: a.size,
             time: a.time,
             cull: a.cull,
+            instances: a.instances,
             grace: std::time::Duration::from_millis(a.grace),
             preview_scale: a.preview_scale,
             watch: a.watch,

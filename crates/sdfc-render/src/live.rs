@@ -47,7 +47,7 @@ pub struct LiveOptions {
     /// (whose one queue runs the preview and the final frame one after the other, where the
     /// interpreter is 20 to 250 times slower than the specialised shader).
     pub preview_scale: Option<u32>,
-    /// How the specialised shader is emitted (`cull`).
+    /// How the specialised shader is emitted (`cull`; `instances`, its union as data).
     pub emit: sdfc_wgsl::Options,
     /// The program the interpreter draws the preview from, where it is not the one
     /// specialised: the scene lowered with culling (`sdfc_wgsl::lower_live`), whose bytecode
@@ -237,11 +237,11 @@ impl Renderer {
                 Err(mpsc::RecvTimeoutError::Disconnected) => return Err(builder_died()),
             }
         };
-        let wgsl = built?;
+        let (wgsl, data) = built?;
         if superseded() {
             return Ok(None);
         }
-        let frame = self.render_wgsl(program, &wgsl, opts)?;
+        let frame = self.render_text(program, &wgsl, as_data(&data), opts)?;
         let specialised = live.start.elapsed();
         on_frame(Drawn::Specialised, &frame);
         Ok(Some((
@@ -289,22 +289,24 @@ impl Renderer {
         Ok(())
     }
 
-    /// Emits and validates the specialised shader and builds its pipeline (into the cache),
-    /// unless the render was `abandoned` by then.
+    /// Emits and validates the specialised shader (with its union as data where `emit` asks
+    /// for `instances`) and builds its pipeline (into the cache), unless the render was
+    /// `abandoned` by then.
     fn specialise(
         &self,
         program: &Program,
         emit: &sdfc_wgsl::Options,
         abandoned: &AtomicBool,
-    ) -> Result<String, RenderError> {
+    ) -> Result<(String, Vec<u8>), RenderError> {
         let emit = sdfc_wgsl::Options {
             lib: false,
             import_path: None,
             ..emit.clone()
         };
         // On the compiler's stack, which deep scenes need, as `sdfc_wgsl::compile` runs.
-        let emitted = sdfc_wgsl::on_compiler_stack(|| sdfc_wgsl::emit_validated(program, &emit));
-        let wgsl = emitted.map_err(|f| match f {
+        let emitted =
+            sdfc_wgsl::on_compiler_stack(|| sdfc_wgsl::emit_validated_with_data(program, &emit));
+        let (wgsl, data) = emitted.map_err(|f| match f {
             sdfc_wgsl::Failure::Internal { report, wgsl } if wgsl.is_empty() => {
                 RenderError::Emit(report)
             }
@@ -316,12 +318,12 @@ impl Renderer {
             f => RenderError::Emit(format!("while emitting the scene: {f}")),
         })?;
         if abandoned.load(Ordering::Relaxed) {
-            return Ok(wgsl);
+            return Ok((wgsl, data));
         }
         // One pixel: lavapipe compiles machine code at a pipeline's first dispatch, and this
         // way that happens here, before the pipeline is called ready.
-        self.render_wgsl(program, &wgsl, &RenderOptions::sized(1, 1))?;
-        Ok(wgsl)
+        self.render_text(program, &wgsl, as_data(&data), &RenderOptions::sized(1, 1))?;
+        Ok((wgsl, data))
     }
 
     /// The scene's bytecode, or why the interpreter does not draw a preview: the scene is
@@ -395,9 +397,14 @@ impl Renderer {
 /// What the threads of a live render report.
 enum Event {
     /// The specialised shader's WGSL (its pipeline in the cache) or why not, and when.
-    Specialised(Result<String, RenderError>, Duration),
+    Specialised(Result<(String, Vec<u8>), RenderError>, Duration),
     /// The interpreter's pipeline is in the cache, or why not.
     Interpreter(Result<(), RenderError>),
+}
+
+/// The data a shader reads at binding 3, if it reads any.
+fn as_data(data: &[u8]) -> Option<&[u8]> {
+    (!data.is_empty()).then_some(data)
 }
 
 fn builder_died() -> RenderError {

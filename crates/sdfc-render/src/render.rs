@@ -149,7 +149,7 @@ impl Renderer {
     }
 
     /// [`Renderer::render_wgsl`], with `data` at binding 3 where there is some.
-    fn render_text(
+    pub(crate) fn render_text(
         &self,
         program: &Program,
         wgsl: &str,

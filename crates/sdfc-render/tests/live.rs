@@ -380,3 +380,28 @@ fn a_preview_cut_short_by_the_loop_budget_is_counted_or_skipped() {
         );
     }
 }
+
+/// With `instances` in the emit options, the final frame is the union's data form: the
+/// picture `render` draws from the same scene compiled with `instances`, and its WGSL reads
+/// the data.
+#[test]
+fn the_final_frame_can_read_the_union_as_data() {
+    let Some(r) = renderer() else { return };
+    let source = sdfc_tests::grid_scene(40);
+    let opts = RenderOptions::sized(40, 30);
+    let emit = sdfc_wgsl::Options {
+        instances: true,
+        ..sdfc_wgsl::Options::default()
+    };
+    let data = sdfc_wgsl::compile(&source, &emit).unwrap();
+    assert!(!data.data.is_empty());
+    let live = LiveOptions {
+        emit,
+        ..live(Duration::MAX, 4)
+    };
+    let (frames, report) = render_live(r, data.program(), &opts, &live).unwrap();
+    assert_eq!(frames.len(), 1);
+    assert_eq!(frames[0].0, Drawn::Specialised);
+    assert_eq!(report.wgsl, data.wgsl);
+    assert_eq!(frames[0].1.rgba, r.render(&data, &opts).unwrap().rgba);
+}

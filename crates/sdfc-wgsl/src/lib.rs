@@ -302,6 +302,18 @@ pub fn emit_validated(program: &Program, opts: &Options) -> Result<String, Failu
     emit_checked(program, opts, None)
 }
 
+/// [`emit_validated`] with [`Options::instances`] honoured: the WGSL and the data it reads at
+/// binding 3 (empty where the union stays code), as [`compile`] gives them.
+pub fn emit_validated_with_data(
+    program: &Program,
+    opts: &Options,
+) -> Result<(String, Vec<u8>), Failure> {
+    opts.check().map_err(Failure::Usage)?;
+    let plan = opts.instances.then(|| instances::plan(program)).flatten();
+    let wgsl = emit_checked(program, opts, plan.as_ref())?;
+    Ok((wgsl, plan.map_or_else(Vec::new, |p| p.data())))
+}
+
 /// [`emit_validated`] with options already checked, the union as data where `plan` says.
 fn emit_checked(
     program: &Program,

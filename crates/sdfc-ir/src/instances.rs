@@ -5,8 +5,8 @@
 //! This module finds such a union and builds the hierarchy; `sdfc-wgsl` lays it out and
 //! emits the walk.
 
-use crate::analysis::analyse;
 use crate::analysis::bounds::Aabb;
+use crate::analysis::Analysis;
 use crate::hash::FxHashMap;
 use crate::passes::fold::const_value_in;
 use crate::scene::Scene;
@@ -21,7 +21,7 @@ pub const MIN_CHILDREN: usize = 16;
 /// that f32 rounding of the boxes cannot cut an instance's surface.
 const PAD: f64 = 1e-3;
 
-/// One instance: `template`'s distance with arguments `args` at `m * (p - centre) / scale`,
+/// One instance: `template`'s distance with arguments `args` at `turn(q, p - centre) / scale`,
 /// times `scale`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Instance {
@@ -31,9 +31,7 @@ pub struct Instance {
     pub args: Vec<Value<f64>>,
     /// The scene's material index.
     pub material: u32,
-    /// Column-major, as [`Value::M3`]: a rotation.
-    pub m: [[f64; 3]; 3],
-    /// The same rotation as a unit quaternion (x, y, z, w).
+    /// The turn, a unit quaternion (x, y, z, w).
     pub q: [f64; 4],
     pub centre: [f64; 3],
     pub scale: f64,
@@ -63,12 +61,13 @@ pub struct Instances {
     pub nodes: Vec<Node>,
 }
 
-/// The root union of `scene` as instances, in coordinates centred on `origin` (the
+/// The root union of `scene` (whose `analysis` gives the boxes) as instances, in
+/// coordinates centred on `origin` (the
 /// camera-relative frame the renderer marches in, or the origin), or `None` where the root
 /// (under constant moves, turns, scales and materials) is not a hard union of
 /// [`MIN_CHILDREN`] or more instances: bounded primitives with constant arguments (the
 /// fractals' are compile-time settings of their code, so they are left out).
-pub fn find(scene: &Scene, origin: [f64; 3]) -> Option<Instances> {
+pub fn find(scene: &Scene, analysis: &Analysis, origin: [f64; 3]) -> Option<Instances> {
     let mut memo = FxHashMap::default();
     let (root, outer) = peel(scene, scene.root, Frame::IDENTITY, &mut memo)?;
     let ShapeKind::Combine {
@@ -82,7 +81,6 @@ pub fn find(scene: &Scene, origin: [f64; 3]) -> Option<Instances> {
     if children.len() < MIN_CHILDREN {
         return None;
     }
-    let analysis = analyse(scene, false);
     let mut templates: Vec<(Prim, Vec<Ty>)> = Vec::new();
     let mut items = Vec::with_capacity(children.len());
     for &child in children {
@@ -138,7 +136,6 @@ pub fn find(scene: &Scene, origin: [f64; 3]) -> Option<Instances> {
             template,
             args: values,
             material: f.material.unwrap_or(0),
-            m: f.m,
             q,
             centre: [0, 1, 2].map(|a| c[a] - origin[a]),
             scale: f.s,
@@ -262,6 +259,22 @@ fn mat_vec(a: &[[f64; 3]; 3], v: &[f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|row| (0..3).map(|k| a[k][row] * v[k]).sum())
 }
 
+/// `v` turned by the unit quaternion `q` (x, y, z, w), as `shaders/instances.wgsl` turns a
+/// point into an instance's frame: `v + w t + q.xyz x t`, with `t = 2 q.xyz x v`.
+pub fn turn(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let u = [q[0], q[1], q[2]];
+    let t = cross(u, v).map(|x| 2.0 * x);
+    let ut = cross(u, t);
+    [0, 1, 2].map(|i| v[i] + q[3] * t[i] + ut[i])
+}
+
 /// The unit quaternion (x, y, z, w) of a rotation matrix (column-major), or `None` where the
 /// matrix is not a rotation (to 1e-6).
 fn quaternion(m: &[[f64; 3]; 3]) -> Option<[f64; 4]> {
@@ -364,15 +377,15 @@ fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
     });
     if idx.len() > 1 {
         let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
-        let extent = |a: usize| {
+        let extent = [0, 1, 2].map(|a| {
             let (mn, mx) = idx
                 .iter()
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
                     (mn.min(mid(i, a)), mx.max(mid(i, a)))
                 });
             mx - mn
-        };
-        let axis = (0..3).fold(0, |best, a| if extent(a) > extent(best) { a } else { best });
+        });
+        let axis = (0..3).fold(0, |best, a| if extent[a] > extent[best] { a } else { best });
         // Stable, so that equal centres keep the union's order.
         idx.sort_by(|&x, &y| mid(x, axis).total_cmp(&mid(y, axis)));
         let half_len = idx.len() / 2;
@@ -386,21 +399,6 @@ fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// v turned by the quaternion, as `shaders/instances.wgsl` does it.
-    fn turn(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
-        let cross = |a: [f64; 3], b: [f64; 3]| {
-            [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ]
-        };
-        let u = [q[0], q[1], q[2]];
-        let t = cross(u, v).map(|x| 2.0 * x);
-        let ut = cross(u, t);
-        [0, 1, 2].map(|i| v[i] + q[3] * t[i] + ut[i])
-    }
 
     #[test]
     fn a_quaternion_turns_as_its_matrix_does() {

@@ -53,9 +53,12 @@ pub struct Functions {
 /// emitted as data, `crate::instances`): its distance in its own frame, its arguments read
 /// from `Op::Param(i)` (of the types given), which the emitter binds to the instance's
 /// arguments rather than the scene's params. Unoptimised.
-pub fn template_functions(scene: &Scene, templates: &[(Prim, Vec<Ty>)]) -> Vec<Func> {
+pub fn template_functions(
+    scene: &Scene,
+    analysis: &crate::analysis::Analysis,
+    templates: &[(Prim, Vec<Ty>)],
+) -> Vec<Func> {
     let counts = crate::lower::expansion::instance_counts(&scene.shapes);
-    let analysis = crate::analysis::analyse(scene, false);
     templates
         .iter()
         .enumerate()

@@ -3,7 +3,7 @@
 //! holds every instance once, its boxes nested and its skip links right.
 
 use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_ir::instances::{find, Instances};
+use sdfc_ir::instances::{find, turn, Instances};
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
 
@@ -39,7 +39,7 @@ fn union(n: usize) -> String {
 
 fn found(src: &str) -> Option<(Program, Instances)> {
     let p = program(src);
-    let f = find(&p.scene, [0.0; 3])?;
+    let f = find(&p.scene, &p.analysis, [0.0; 3])?;
     Some((p, f))
 }
 
@@ -74,16 +74,16 @@ fn other_unions_are_left_as_code() {
     ];
     for v in variants {
         let p = program(&v);
-        assert!(find(&p.scene, [0.0; 3]).is_none(), "{v}");
+        assert!(find(&p.scene, &p.analysis, [0.0; 3]).is_none(), "{v}");
     }
 }
 
-/// Every instance's template at `m (p - centre) / scale`, times `scale`, is the union's child:
+/// Every instance's kind at `turn(q, p - centre) / scale`, times `scale`, is the union's child:
 /// their minimum is the scene's distance, at points all over the union.
 #[test]
 fn the_instances_give_the_union_s_distance() {
     let (p, f) = found(&union(40)).expect("found");
-    let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &f.templates);
+    let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &p.analysis, &f.templates);
     let mut worst = 0.0f64;
     for k in 0..500 {
         let t = k as f64;
@@ -101,8 +101,8 @@ fn the_instances_give_the_union_s_distance() {
             .iter()
             .map(|i| {
                 let d = [0, 1, 2].map(|a| q[a] - i.centre[a]);
-                let local = [0, 1, 2].map(|r| (0..3).map(|c| i.m[c][r] * d[c]).sum::<f64>());
-                let local = local.map(|x| x / i.scale);
+                // Turned by the quaternion the shader reads.
+                let local = turn(i.q, d).map(|x| x / i.scale);
                 let f = &templates[i.template as usize];
                 let inputs = Inputs {
                     params: i.args.clone(),
@@ -152,9 +152,10 @@ fn the_hierarchy_holds_each_instance_once_in_nested_boxes() {
 #[test]
 fn instances_are_found_relative_to_an_origin() {
     let p = program(&union(20));
-    let at = find(&p.scene, [0.0; 3]).unwrap();
+    let a = &p.analysis;
+    let at = find(&p.scene, a, [0.0; 3]).unwrap();
     let origin = [1e5, -3.0, 2.5];
-    let moved = find(&p.scene, origin).unwrap();
+    let moved = find(&p.scene, a, origin).unwrap();
     for (a, b) in at.items.iter().zip(&moved.items) {
         for (k, o) in origin.into_iter().enumerate() {
             assert!((a.centre[k] - o - b.centre[k]).abs() < 1e-9);

@@ -67,9 +67,9 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     } else {
         shader(other)?
     };
-    let base = match base {
-        Some(b) => shader(b)?,
-        None => (compiled.wgsl.clone(), None),
+    let (own, base) = match base {
+        Some(b) => ("base shader", shader(b)?),
+        None => ("own shader", (compiled.wgsl.clone(), None)),
     };
     let (w, h) = size.split_once('x').ok_or("size is WxH")?;
     let mut opts = RenderOptions::sized(w.parse()?, h.parse()?);
@@ -78,11 +78,6 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     println!("adapter: {}", r.adapter_description());
     // The other shader first: where the own one is slow to build (a large union on a CPU
     // device), the other's figures are printed before a time limit cuts the run short.
-    let own = if base.1.is_none() && base.0 == compiled.wgsl {
-        "own shader"
-    } else {
-        "base shader"
-    };
     let shaders = [("other shader", &other), (own, &base)];
     let render = |(wgsl, data): &(String, Option<Vec<u8>>)| match data {
         Some(bytes) => r.render_wgsl_with_data(compiled.program(), wgsl, bytes, &opts),

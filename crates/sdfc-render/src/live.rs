@@ -4,6 +4,7 @@
 //! preview; then the specialised shader draws the final frame.
 
 use crate::device::Renderer;
+use crate::render::as_data;
 use crate::{params, Aovs, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
@@ -400,11 +401,6 @@ enum Event {
     Specialised(Result<(String, Vec<u8>), RenderError>, Duration),
     /// The interpreter's pipeline is in the cache, or why not.
     Interpreter(Result<(), RenderError>),
-}
-
-/// The data a shader reads at binding 3, if it reads any.
-fn as_data(data: &[u8]) -> Option<&[u8]> {
-    (!data.is_empty()).then_some(data)
 }
 
 fn builder_died() -> RenderError {

@@ -110,6 +110,11 @@ impl Timer {
     }
 }
 
+/// The data a shader reads at binding 3, if it reads any (`sdfc_wgsl::Compiled::data`).
+pub(crate) fn as_data(data: &[u8]) -> Option<&[u8]> {
+    (!data.is_empty()).then_some(data)
+}
+
 impl Renderer {
     /// Renders a compiled scene (the whole shader: not the library form), with its union's
     /// data where it was emitted as data (`sdfc_wgsl::Options::instances`). Blocks until the
@@ -118,8 +123,7 @@ impl Renderer {
         if scene.is_library() {
             return Err(RenderError::LibraryForm);
         }
-        let data = (!scene.data.is_empty()).then_some(&scene.data[..]);
-        self.render_text(scene.program(), &scene.wgsl, data, opts)
+        self.render_text(scene.program(), &scene.wgsl, as_data(&scene.data), opts)
     }
 
     /// Renders `wgsl`, a full shader emitted for `program` (the program gives the params'

@@ -30,8 +30,9 @@ pub fn plan(p: &Program) -> Option<Plan> {
     if p.scene.render.normals == Normals::Analytic || frame.distance_ray.is_some() {
         return None;
     }
-    let found = find(&p.scene, frame.origin.map(f64::from))?;
-    let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &found.templates)
+    // The program's own analysis of its scene: the instances' boxes, the kinds' functions.
+    let found = find(&p.scene, &p.analysis, frame.origin.map(f64::from))?;
+    let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &p.analysis, &found.templates)
         .iter()
         .map(|f| sdfc_ir::passes::optimise(f).0)
         .collect();

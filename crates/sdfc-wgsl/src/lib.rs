@@ -156,14 +156,10 @@ pub fn compile_here(source: &str, opts: &Options) -> Result<Compiled, Failure> {
     let Lowered {
         stages, warnings, ..
     } = lower_here(source, opts)?;
-    let plan = opts
-        .instances
-        .then(|| instances::plan(&stages.program))
-        .flatten();
-    let wgsl = emit_checked(&stages.program, opts, plan.as_ref())?;
+    let (wgsl, data) = emit_with_data(&stages.program, opts)?;
     Ok(Compiled {
         wgsl,
-        data: plan.map_or_else(Vec::new, |p| p.data()),
+        data,
         stages,
         warnings,
         library: opts.lib,
@@ -309,6 +305,11 @@ pub fn emit_validated_with_data(
     opts: &Options,
 ) -> Result<(String, Vec<u8>), Failure> {
     opts.check().map_err(Failure::Usage)?;
+    emit_with_data(program, opts)
+}
+
+/// [`emit_validated_with_data`] with options already checked.
+fn emit_with_data(program: &Program, opts: &Options) -> Result<(String, Vec<u8>), Failure> {
     let plan = opts.instances.then(|| instances::plan(program)).flatten();
     let wgsl = emit_checked(program, opts, plan.as_ref())?;
     Ok((wgsl, plan.map_or_else(Vec::new, |p| p.data())))

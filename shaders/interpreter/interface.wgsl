@@ -45,6 +45,8 @@ struct Frame {
     // Where the scene's bounds are in `data`: (low corner, mask of the finite axes), then
     // (high corner, 0); see `ray_span`.
     bounds_at: u32,
+    // Where a union read as data starts in `data` (shaders/interpreter/instances.wgsl).
+    instances_at: u32,
 }
 
 @group(0) @binding(0) var<storage, read> frame: Frame;

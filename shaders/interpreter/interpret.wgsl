@@ -30,6 +30,8 @@ var<private> gasket: SierpinskiLevel;
 // Whether a run of the code was cut short (see `interpret`): the pixel's alpha is then 0, so
 // that the renderer can tell (it sets every alpha back to 1).
 var<private> cut: bool = false;
+// No jump (`execute`; and no walk in progress, shaders/interpreter/instances.wgsl).
+const NO_JUMP: u32 = 0xffffffffu;
 
 // Operand i: register i, or from MAX_REGISTERS on constant i - MAX_REGISTERS of the pool.
 // Both are read, each at an index in range, and one selected: lavapipe runs both sides of
@@ -45,6 +47,8 @@ fn execute(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, at: u32) -> u32
     var pc = at;
     // Whether a fractal's orbit goes on: its instruction runs again.
     var stay = false;
+    // Where a union's walk goes next (NO_JUMP: on, or the walk's result written).
+    var jump = NO_JUMP;
     let ins = code[pc];
     let dst = ins.y & 0xffffu;
     let imm = ins.y >> 16u;
@@ -65,6 +69,14 @@ fn execute(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, at: u32) -> u32
         // Writes nothing new: its destination is register 0, rewritten with itself.
         case OP_SKIP_UNLESS_LESS: { if !(a.x < b.x) { pc = pc + imm; } r = (*regs)[dst]; }
         case OP_MOV: { r = a; }
+//WALK:BEGIN A union read as data: shaders/interpreter/instances.wgsl (only in the variant
+// that walks one, `interp::Variant::Walk`: lavapipe runs every case of the switch at every
+// instruction, and these four made every other scene's frames 12 to 17% slower there).
+        case OP_INSTANCES: { jump = walk_trip(regs, pc, a.xyz, imm); r = walk_out; }
+        case OP_INSTANCE_DONE: { jump = walk_back(regs, a.x); }
+        case OP_ARG: { r = instance_arg(imm); }
+        case OP_MATERIAL_ROW: { r = data[frame.consts_at + imm + 2u * u32(a.y)]; }
+//WALK:END
         case OP_NEG: { r = -a; }
         case OP_ADD: { r = a + b; }
         case OP_SUB: { r = a - b; }
@@ -192,6 +204,9 @@ fn execute(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, at: u32) -> u32
         }
         default: {}
     }
+    if jump != NO_JUMP {
+        return jump;
+    }
     if stay {
         fractal_at = pc;
         fractal_i = fractal_i + 1u;
@@ -208,6 +223,9 @@ fn interpret(range: vec2<u32>, p: vec3<f32>) -> Outputs {
     let last = range.y - 1u;
     var pc = range.x;
     fractal_at = NO_FRACTAL;
+//WALK:BEGIN
+    walk_at = NO_JUMP;
+//WALK:END
     loop {
         if pc >= last {
             break;

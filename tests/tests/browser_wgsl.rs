@@ -307,11 +307,16 @@ fn every_emitted_shader_passes_tint() {
     }
     forms("grid_300", &sdfc_tests::grid_scene(300), &mut shaders);
     for unroll in [1, interp::CPU_UNROLL] {
-        let wgsl = emitted(
-            "interpreter",
-            interp::shader_unrolled(unroll).map(str::to_string),
-        );
-        shaders.insert(format!("interpreter_unroll{unroll}.wgsl"), wgsl);
+        for (name, variant) in [
+            ("", interp::Variant::Code),
+            ("_walk", interp::Variant::Walk),
+        ] {
+            let wgsl = emitted(
+                "interpreter",
+                interp::shader_variant(unroll, variant).map(str::to_string),
+            );
+            shaders.insert(format!("interpreter{name}_unroll{unroll}.wgsl"), wgsl);
+        }
     }
     assert!(shaders.len() > 200, "only {} shaders", shaders.len());
     assert_all_pass("all", &shaders);

@@ -187,16 +187,25 @@ fn grid_of_300_shapes_culled_does_a_fifth_of_the_work() {
 
 /// The live path's lowering (`lower_live`): a large union comes with a culled program for
 /// the interpreted preview, and its own program is the plain one, whose WGSL is byte for
-/// byte what `compile` gives; with `cull` asked for, or a union too small to cull, there is
-/// one program.
+/// byte what `compile` gives; with `cull` asked for, a union too small to cull, or a union
+/// of instances (previewed from data), there is one program.
 #[test]
 fn the_live_path_previews_a_large_union_culled() {
-    let grid = grid_scene(40);
+    // A shell among the shapes keeps the union code (a union of instances has primitives
+    // only).
+    let grid = grid_scene(40).replacen("sphere(0.3)", "sphere(0.3).onion(0.05)", 1);
     let live = lower_live(&grid, &Options::default()).expect("lowers");
     let preview = live.preview.as_deref().expect("a culled preview program");
     assert!(preview.culls() && !live.stages.program.culls());
     let wgsl = emit_validated(&live.stages.program, &Options::default()).expect("emits");
     assert_eq!(wgsl, compile(&grid, &Options::default()).unwrap().wgsl);
+    let instances = lower_live(&grid_scene(40), &Options::default()).expect("lowers");
+    assert!(instances.preview.is_none() && !instances.stages.program.culls());
+    let wgsl = emit_validated(&instances.stages.program, &Options::default()).expect("emits");
+    assert_eq!(
+        wgsl,
+        compile(&grid_scene(40), &Options::default()).unwrap().wgsl
+    );
     let culling = Options {
         cull: true,
         ..Options::default()

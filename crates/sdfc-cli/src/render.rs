@@ -44,8 +44,10 @@ pub struct Args {
     /// by one loop, instead of compiling each shape: for a union of many constant shapes
     /// (moved, turned, scaled, with materials), whose pipeline then builds in about a second
     /// whatever its size. A scene without such a union is compiled as usual, with a note.
-    /// With --live, the final frame's (the preview stays interpreted)
-    #[arg(long, conflicts_with_all = ["interpreted", "cull"])]
+    /// With --interpreted, the interpreter walks the union read as data (its bytecode no
+    /// longer grows with the shapes). With --live, the final frame's; the preview of such a
+    /// union is interpreted from data in any case
+    #[arg(long, conflicts_with = "cull")]
     instances: bool,
     /// A first picture as soon as possible: if the scene's specialised pipeline is not built
     /// within the grace period, the interpreted marcher draws a preview into OUT while it
@@ -223,10 +225,36 @@ fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
     }
 }
 
-/// Prints a render error; returns the outcome it maps to.
 /// Why `--instances` changed nothing.
 const INSTANCES_NOTE: &str = "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant shapes (each a primitive, moved, turned or scaled by constants, with a material), or the scene uses analytic normals; it is compiled as code";
 
+/// Why `--interpreted --instances` changed nothing.
+const INTERPRETED_INSTANCES_NOTE: &str = "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant shapes (each a primitive, moved, turned or scaled by constants, with a material); the interpreter runs it as code";
+
+/// A frame from the interpreted marcher; with `instances`, its root union read as data where
+/// it is a union of instances (`encode_as_data`), else as code with a note.
+fn interpreted(
+    renderer: &Renderer,
+    program: &Program,
+    instances: bool,
+    opts: &RenderOptions,
+) -> Result<sdfc_render::Frame, RenderError> {
+    if !instances {
+        return renderer.render_interpreted(program, opts);
+    }
+    match sdfc_wgsl::interp::encode_instances::encode_as_data(program) {
+        Some(code) => {
+            let code = code.map_err(RenderError::Interpreter)?;
+            renderer.render_bytecode(program, &code, opts)
+        }
+        None => {
+            say!("{}", INTERPRETED_INSTANCES_NOTE);
+            renderer.render_interpreted(program, opts)
+        }
+    }
+}
+
+/// Prints a render error; returns the outcome it maps to.
 pub fn render_failure(e: &RenderError) -> Outcome {
     say!("sdfc: {e}");
     if e.is_input_error() {
@@ -338,7 +366,7 @@ pub fn run(a: Args) -> Outcome {
         Ok(p) => p,
         Err(o) => return o,
     };
-    if a.instances && compiled.data.is_empty() {
+    if a.instances && !a.interpreted && compiled.data.is_empty() {
         say!("{}", INSTANCES_NOTE);
     }
     let params = to_f32(&overrides);
@@ -355,7 +383,7 @@ pub fn run(a: Args) -> Outcome {
                 "sdfc: note: the interpreted marcher has no gradient code; `normals: analytic` renders with `tetrahedron` there"
             );
         }
-        renderer.render_interpreted(compiled.program(), &opts)
+        interpreted(&renderer, compiled.program(), a.instances, &opts)
     } else {
         crate::slow_note::unless_quick(|| renderer.render(&compiled, &opts))
     };

@@ -1086,8 +1086,9 @@ fn a_slow_render_says_why_and_what_to_do_instead() {
 }
 
 /// `--instances`: a union of many constant shapes read from data draws the picture the code
-/// draws; a scene without such a union is rendered as code, with a note saying why; it does
-/// not go with `--interpreted`.
+/// draws, in the specialised shader and in the interpreter (`--interpreted`); a scene
+/// without such a union is rendered as code, with a note saying why; it does not go with
+/// `--cull`.
 #[test]
 fn instances_render_the_same_picture_or_say_why_not() {
     if !have_device() {
@@ -1100,21 +1101,32 @@ fn instances_render_the_same_picture_or_say_why_not() {
     render_in(&t, &grid, &code, &[size]).expect_code(0);
     let run = render_in(&t, &grid, &data, &[size, &["--instances"]]).expect_code(0);
     assert!(!run.stderr.contains("note"), "{}", run.describe());
-    let (a, b) = (read_png(&code), read_png(&data));
-    let off = a
-        .as_raw()
-        .iter()
-        .zip(b.as_raw())
-        .filter(|(x, y)| x.abs_diff(**y) > 2)
-        .count();
-    assert!(off <= 8, "{off} channels differ");
-    // A single sphere: code, and a note.
-    let scene = t.write("s.sdf", SPHERE);
-    let run = render_in(&t, &scene, &t.path("s.png"), &[size, &["--instances"]]).expect_code(0);
+    // Channels of the code's picture more than 2 off in `other`'s.
+    let a = read_png(&code);
+    let off = |other: &Path| {
+        let b = read_png(other);
+        let pairs = a.as_raw().iter().zip(b.as_raw());
+        pairs.filter(|(x, y)| x.abs_diff(**y) > 2).count()
+    };
+    assert!(off(&data) <= 8, "{} channels differ", off(&data));
+    let walked = t.path("walked.png");
+    let both = ["--instances", "--interpreted"];
+    let run = render_in(&t, &grid, &walked, &[size, &both]).expect_code(0);
+    assert!(!run.stderr.contains("note"), "{}", run.describe());
     assert!(
-        run.stderr.contains("--instances: the scene's root is not"),
-        "{}",
-        run.describe()
+        off(&walked) <= 8,
+        "interpreted: {} channels differ",
+        off(&walked)
     );
-    render_in(&t, &grid, &data, &[&["--instances", "--interpreted"]]).expect_code(2);
+    // A single sphere: code, and a note, in either marcher.
+    let scene = t.write("s.sdf", SPHERE);
+    for extra in [&["--instances"][..], &both] {
+        let run = render_in(&t, &scene, &t.path("s.png"), &[size, extra]).expect_code(0);
+        assert!(
+            run.stderr.contains("--instances: the scene's root is not"),
+            "{}",
+            run.describe()
+        );
+    }
+    render_in(&t, &grid, &data, &[&["--instances", "--cull"]]).expect_code(2);
 }

@@ -149,18 +149,66 @@ pub fn compile_with(
     source_len: usize,
     opts: &IrOptions,
 ) -> (Option<Stages>, Vec<Diagnostic>) {
+    match front(file, source_len) {
+        Ok(f) => back(f, opts),
+        Err(diags) => (None, diags),
+    }
+}
+
+/// What every program of a file shares, whatever the [`IrOptions`]: the scene lowered,
+/// merged and analysed ([`front`]), before its functions are built ([`back`]). The live path
+/// builds two programs from one (`sdfc_wgsl::lower_live`).
+#[derive(Clone, Debug)]
+pub struct Front {
+    lowered: Scene,
+    merged: Scene,
+    analysis: analysis::Analysis,
+    diags: Vec<Diagnostic>,
+}
+
+impl Front {
+    /// The scene after the passes on the scene (what [`Program::scene`] will be).
+    pub fn scene(&self) -> &Scene {
+        &self.merged
+    }
+
+    /// Its analysis (what [`Program::analysis`] will be).
+    pub fn analysis(&self) -> &analysis::Analysis {
+        &self.analysis
+    }
+}
+
+/// The first half of [`compile_with`]: lowers, merges and analyses; the diagnostics where
+/// that fails.
+pub fn front(file: &File, source_len: usize) -> Result<Front, Vec<Diagnostic>> {
     let lowered = lower::lower(file, source_len);
     let mut diags = lowered.diagnostics;
     let Some(scene) = lowered.scene else {
-        return (None, diags);
+        return Err(diags);
     };
     let merged = passes::merge::run(&scene);
     // Bound-only nodes need their Lipschitz constants; declared ones are checked by sampling.
     let mut analysis = analysis::analyse(&merged, true);
     diags.append(&mut analysis.diagnostics);
     if diags.iter().any(|d| d.is_error()) {
-        return (None, diags);
+        return Err(diags);
     }
+    Ok(Front {
+        lowered: scene,
+        merged,
+        analysis,
+        diags,
+    })
+}
+
+/// The second half of [`compile_with`]: the scene functions, built and optimised.
+pub fn back(front: Front, opts: &IrOptions) -> (Option<Stages>, Vec<Diagnostic>) {
+    let Front {
+        lowered: scene,
+        merged,
+        analysis,
+        mut diags,
+    } = front;
     let funcs = to_ssa::functions(&merged, opts.cull);
     let mut errors = Vec::new();
     let mut opt = |f: &Func| {

@@ -15,7 +15,8 @@
 //! scenes instead. `SDFC_BENCH_LIVE_ONLY=1` measures the live path without grace alone, and
 //! prints the preview's time as soon as it is drawn: NVIDIA's driver had not built the
 //! 5 000-shape union's pipeline after 236 s (docs/performance.md), so a run limited in time
-//! still learns the first pixel. Mesa keeps built shaders in a disk cache:
+//! still learns the first pixel. `SDFC_BENCH_INSTANCES=1`: the specialised shader reads a
+//! large union as data (`--instances`). Mesa keeps built shaders in a disk cache:
 //! `MESA_SHADER_CACHE_DISABLE=true` measures cold builds.
 
 use sdfc_render::{LiveOptions, RenderOptions, Renderer};
@@ -53,6 +54,7 @@ fn main() {
     // `SDFC_BENCH_CULL=1`: both paths with bounding-box early-outs (`--cull`).
     let emit = sdfc_wgsl::Options {
         cull: std::env::var("SDFC_BENCH_CULL").is_ok_and(|v| v == "1"),
+        instances: std::env::var("SDFC_BENCH_INSTANCES").is_ok_and(|v| v == "1"),
         ..Default::default()
     };
     let start = Instant::now();

@@ -64,9 +64,10 @@ pub struct Shared {
     /// [`Kind::RenderData`]'s.
     pub(crate) data_bind_layout: wgpu::BindGroupLayout,
     pub(crate) pipelines: Pipelines,
-    /// Whether an interpreted frame has been drawn: the interpreter's pipeline is then
-    /// ready to run at once (see [`Renderer::warm_interpreter`]).
-    pub(crate) interpreter_warm: std::sync::atomic::AtomicBool,
+    /// Whether an interpreted frame has been drawn by each of the interpreter's variants
+    /// (`Variant::Code`, `Variant::Walk`): its pipeline is then ready to run at once (see
+    /// [`Renderer::warm_interpreter`]).
+    pub(crate) interpreter_warm: [std::sync::atomic::AtomicBool; 2],
     /// Threads working on the device in the background (the interpreter's warm-up), for
     /// [`Renderer::wait_for_background_work`].
     pub(crate) background: Mutex<Vec<std::thread::JoinHandle<()>>>,
@@ -370,7 +371,7 @@ impl Renderer {
             eval_bind_layout,
             interp_bind_layout,
             data_bind_layout,
-            interpreter_warm: std::sync::atomic::AtomicBool::new(false),
+            interpreter_warm: Default::default(),
             background: Mutex::new(Vec::new()),
             sink,
         })))

@@ -11,13 +11,15 @@ use sdfc_ir::shape::{CombineOp, ShapeKind};
 use sdfc_ir::to_ssa::CULL_MIN;
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
+use sdfc_wgsl::interp::encode_instances::encode_as_data;
 use sdfc_wgsl::interp::frame::frame_data_with;
+use sdfc_wgsl::interp::Variant;
 use std::sync::atomic::Ordering;
 
-/// The interpreter's WGSL running `unroll` instructions per trip of its loop (emitted and
-/// validated once per process).
-fn interpreter_wgsl(unroll: u32) -> Result<&'static str, RenderError> {
-    sdfc_wgsl::interp::shader_unrolled(unroll).map_err(|f| match f {
+/// The WGSL of the interpreter's `variant` running `unroll` instructions per trip of its
+/// loop (emitted and validated once per process).
+fn interpreter_wgsl(unroll: u32, variant: Variant) -> Result<&'static str, RenderError> {
+    sdfc_wgsl::interp::shader_variant(unroll, variant).map_err(|f| match f {
         sdfc_wgsl::Failure::Internal { report, .. } => RenderError::Emit(report),
         // Neither happens here: the program was lowered, the options are fixed.
         f => RenderError::Emit(format!("while emitting the interpreter: {f}")),
@@ -31,14 +33,34 @@ impl Renderer {
     /// the interpreter, on the device's one queue thread), not when the pipeline is created.
     /// A live editor calls this (or [`Renderer::warm_interpreter_in_background`]) at
     /// start-up, so that its first interpreted frame need not wait.
+    ///
+    /// Both variants are warmed: the one every scene runs on, and the one that walks a
+    /// union read as data (the live path previews such a union with it).
     pub fn warm_interpreter(&self) -> Result<(), RenderError> {
         if self.interpreter_is_warm() {
             return Ok(());
         }
-        let sphere = sdfc_wgsl::lower("scene = sphere(1);", &Default::default())
-            .map_err(|_| RenderError::Emit("the warm-up scene does not compile".into()))?;
-        self.render_interpreted(&sphere.stages.program, &RenderOptions::sized(1, 1))
-            .map(|_| ())
+        let failed = |_| RenderError::Emit("the warm-up scene does not compile".into());
+        let one = RenderOptions::sized(1, 1);
+        if !self.variant_is_warm(Variant::Code) {
+            let sphere =
+                sdfc_wgsl::lower("scene = sphere(1);", &Default::default()).map_err(failed)?;
+            self.render_interpreted(&sphere.stages.program, &one)?;
+        }
+        if !self.variant_is_warm(Variant::Walk) {
+            // The smallest union read as data: 16 spheres in a row.
+            let spheres: Vec<String> = (0..sdfc_ir::instances::MIN_CHILDREN)
+                .map(|i| format!("sphere(0.4).translate([{i}, 0, 0])"))
+                .collect();
+            let src = format!("scene = union({});", spheres.join(", "));
+            let row = sdfc_wgsl::lower(&src, &Default::default()).map_err(failed)?;
+            let program = &row.stages.program;
+            let code = encode_as_data(program)
+                .ok_or_else(|| RenderError::Emit("the warm-up union is not read as data".into()))?
+                .map_err(RenderError::Interpreter)?;
+            self.render_bytecode(program, &code, &one)?;
+        }
+        Ok(())
     }
 
     /// As [`Renderer::warm_interpreter`], on a thread of its own, which may outlive the call
@@ -60,10 +82,16 @@ impl Renderer {
         }
     }
 
-    /// Whether an interpreted frame has been drawn on this device, so that the next one
-    /// needs no pipeline build or machine-code compilation.
+    /// Whether both variants of the interpreter (`Variant`: the one every scene runs on,
+    /// and the one that walks a union read as data) have drawn a frame on this device, so
+    /// that the next interpreted frame needs no pipeline build or machine-code compilation.
     pub fn interpreter_is_warm(&self) -> bool {
-        self.interpreter_warm.load(Ordering::Relaxed)
+        self.variant_is_warm(Variant::Code) && self.variant_is_warm(Variant::Walk)
+    }
+
+    /// Whether the interpreter's `variant` has drawn a frame on this device.
+    fn variant_is_warm(&self, variant: Variant) -> bool {
+        self.interpreter_warm[usize::from(variant == Variant::Walk)].load(Ordering::Relaxed)
     }
 
     /// Renders a compiled program with the interpreted marcher: the same picture as
@@ -187,7 +215,8 @@ impl Renderer {
                 )),
             ));
         }
-        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll)?)?;
+        let variant = Variant::of(code);
+        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll, variant)?)?;
         let mut frame = self.dispatch(
             &pipeline.pipeline,
             &self.interp_bind_layout,
@@ -199,7 +228,7 @@ impl Renderer {
             opts,
             (gx, gy),
         )?;
-        self.interpreter_warm.store(true, Ordering::Relaxed);
+        self.interpreter_warm[usize::from(variant == Variant::Walk)].store(true, Ordering::Relaxed);
         let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
         Ok((frame, cut))
     }

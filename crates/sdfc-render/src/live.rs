@@ -8,6 +8,7 @@ use crate::render::as_data;
 use crate::{params, Aovs, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
+use sdfc_wgsl::interp::encode_instances::encode_as_data;
 use sdfc_wgsl::interp::frame::preview_settings;
 use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -92,6 +93,9 @@ pub struct LiveReport {
     /// cut short, so that they show arbitrary colours: at most a tenth of them, else no
     /// preview is drawn (lavapipe and llvmpipe; never on a GPU).
     pub preview_cut: usize,
+    /// Whether the preview's bytecode walked the scene's root union read as data
+    /// (`encode_as_data`: a union of 16 or more constant shapes), not the union as code.
+    pub preview_as_data: bool,
     /// Why no preview was drawn although the specialised pipeline was late: the scene is
     /// beyond the interpreter's limits, say.
     pub preview_skipped: Option<String>,
@@ -151,6 +155,7 @@ impl Renderer {
         self.check_size(opts.width, opts.height, opts.aovs)?;
         let (mut interpreted, mut preview_skipped) = (None, None);
         let mut preview_cut = 0;
+        let mut preview_as_data = false;
         let previewed = live.preview.as_deref().unwrap_or(program);
         // On a CPU device the pipeline's builder and the preview share the cores: emitting,
         // validating and building a large scene's pipeline slowed the preview it is meant to
@@ -163,9 +168,12 @@ impl Renderer {
             if superseded() {
                 return Ok(None);
             }
-            let drawn = match self.interpreter_for(previewed) {
+            let drawn = match self.interpreter_for(program, previewed) {
                 Err(why) => Err(why),
-                Ok(code) => self.draw_preview(previewed, &code, opts, live, &mut on_frame)?,
+                Ok((code, from)) => {
+                    preview_as_data = !code.instances.is_empty();
+                    self.draw_preview(from, &code, opts, live, &mut on_frame)?
+                }
             };
             match drawn {
                 Ok((at, cut)) => (interpreted, preview_cut) = (Some(at), cut),
@@ -194,7 +202,7 @@ impl Renderer {
             // The interpreter starts as soon as the grace is over, not a poll later.
             let now = Instant::now();
             if let Some(tx) = tx.take_if(|_| preview_at.is_some_and(|at| now >= at)) {
-                match self.interpreter_for(previewed) {
+                match self.interpreter_for(program, previewed) {
                     Err(why) => preview_skipped = Some(why),
                     Ok(c) => {
                         code = Some(c);
@@ -221,12 +229,13 @@ impl Renderer {
                     break (built, at);
                 }
                 Ok(Event::Interpreter(Ok(()))) => {
-                    let Some(code) = &code else { continue };
+                    let Some((code, from)) = &code else { continue };
+                    preview_as_data = !code.instances.is_empty();
                     if superseded() {
                         abandoned.store(true, Ordering::Relaxed);
                         return Ok(None);
                     }
-                    match self.draw_preview(previewed, code, opts, live, &mut on_frame)? {
+                    match self.draw_preview(from, code, opts, live, &mut on_frame)? {
                         Ok((at, cut)) => (interpreted, preview_cut) = (Some(at), cut),
                         Err(why) => preview_skipped = Some(why),
                     }
@@ -250,6 +259,7 @@ impl Renderer {
             LiveReport {
                 interpreted,
                 preview_cut,
+                preview_as_data: preview_as_data && interpreted.is_some(),
                 preview_skipped,
                 build_started,
                 pipeline_ready,
@@ -331,8 +341,20 @@ impl Renderer {
     /// beyond its limits, or this is a CPU device where it is not yet warm. There its first
     /// frame compiles it on the device's one queue thread, for seconds (20 s on lavapipe
     /// without Mesa's disk cache), and the specialised frame would wait behind it.
-    fn interpreter_for(&self, program: &Program) -> Result<Bytecode, String> {
-        let code = encode(program).map_err(|e| e.to_string())?;
+    ///
+    /// A root union of instances is encoded as data (`encode_as_data`, from `program`): the
+    /// walk's bytecode does not grow with the shapes, and costs what the shapes near each
+    /// ray cost. Any other scene is encoded from `previewed`. Returns the program the
+    /// bytecode was encoded from.
+    fn interpreter_for<'a>(
+        &self,
+        program: &'a Program,
+        previewed: &'a Program,
+    ) -> Result<(Bytecode, &'a Program), String> {
+        let code = match encode_as_data(program) {
+            Some(Ok(code)) => (code, program),
+            _ => (encode(previewed).map_err(|e| e.to_string())?, previewed),
+        };
         if self.adapter_description().software && !self.interpreter_is_warm() {
             return Err(
                 "on a CPU device the interpreter draws previews only once it is warm \

@@ -1,12 +1,14 @@
-//! A union emitted as data (`sdfc_wgsl::Options::instances`, `sdfc render --instances`):
-//! the same picture as the union emitted as code, against the f64 reference as well, near
-//! the origin and 1e5 away from it (the camera-relative frame).
+//! A union emitted as data (`sdfc_wgsl::Options::instances`, `sdfc render --instances`, and
+//! the interpreter's walk, `encode_as_data`): the same picture as the union emitted as code,
+//! against the f64 reference as well, near the origin and 1e5 away from it (the
+//! camera-relative frame).
 
 mod common;
 
 use common::{compile, renderer};
 use sdfc_reference::metrics::{self, GpuFrame, Metrics};
 use sdfc_render::{Frame, RenderOptions, Renderer};
+use sdfc_wgsl::interp::encode_instances::encode_as_data;
 use sdfc_wgsl::Options;
 
 /// The generated grid of `n` shapes (spheres, turned boxes, turned tori, three materials)
@@ -44,17 +46,27 @@ fn with_instances(name: &str, src: &str) -> sdfc_wgsl::Compiled {
 const W: u32 = 64;
 const H: u32 = 48;
 
+/// Which shader draws a frame.
+enum Form<'a> {
+    Specialised(&'a sdfc_wgsl::Compiled),
+    /// The interpreter, the union's walk as bytecode (`encode_as_data`).
+    Interpreted(&'a sdfc_ir::Program),
+}
+
 /// A frame with AOVs and its metrics against `reference`.
-fn against(
-    r: &Renderer,
-    c: &sdfc_wgsl::Compiled,
-    reference: &sdfc_reference::Image,
-) -> (Frame, Metrics) {
+fn against(r: &Renderer, form: Form, reference: &sdfc_reference::Image) -> (Frame, Metrics) {
     let opts = RenderOptions {
         aovs: true,
         ..RenderOptions::sized(W, H)
     };
-    let frame = r.render(c, &opts).expect("renders");
+    let frame = match form {
+        Form::Specialised(c) => r.render(c, &opts),
+        Form::Interpreted(p) => {
+            let code = encode_as_data(p).expect("a union of instances").unwrap();
+            r.render_bytecode(p, &code, &opts)
+        }
+    };
+    let frame = frame.expect("renders");
     let aovs = frame.aovs.as_ref().expect("AOVs");
     let m = metrics::compare(
         &GpuFrame {
@@ -70,15 +82,28 @@ fn against(
     (frame, m)
 }
 
-/// The data form against the code form and both against the f64 reference, at 64x48: the
-/// same hits and depths, and no larger error than the code's.
+/// The data form (the specialised shader's, then the interpreter's) against the code form
+/// and all against the f64 reference, at 64x48: the same hits and depths, and no larger
+/// error than the code's.
 fn check(name: &str, src: &str) {
     let Some(r) = renderer() else { return };
     let code = compile(name, src);
     let reference = sdfc_reference::render(code.program(), &sdfc_reference::Options::sized(W, H));
-    let (data_frame, d) = against(r, &with_instances(name, src), &reference);
-    let (code_frame, c) = against(r, &code, &reference);
-    let (d, c) = (&d, &c);
+    let data = with_instances(name, src);
+    let (code_frame, c) = against(r, Form::Specialised(&code), &reference);
+    let (data_frame, d) = against(r, Form::Specialised(&data), &reference);
+    check_against(name, (&data_frame, &d), (&code_frame, &c));
+    let interpreted = against(r, Form::Interpreted(code.program()), &reference);
+    let name = format!("{name}, interpreted");
+    check_against(&name, (&interpreted.0, &interpreted.1), (&code_frame, &c));
+}
+
+/// The data form's frame and metrics `d` against the code form's `c`.
+fn check_against(
+    name: &str,
+    (data_frame, d): (&Frame, &Metrics),
+    (code_frame, c): (&Frame, &Metrics),
+) {
     eprintln!(
         "{name}: hits {}/{} and {}/{}, mismatches {}+{} and {}+{}, depth p99.9 {:.2e} and {:.2e}, \
          normal median {:.3} and {:.3} deg, PSNR {:.1} and {:.1} dB, steps {:.1} and {:.1}",

@@ -15,6 +15,7 @@ mod common;
 
 use common::{compile, compile_file, renderer};
 use sdfc_render::{Frame, RenderError, RenderOptions};
+use sdfc_wgsl::interp::encode_instances::encode_as_data;
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -387,6 +388,14 @@ fn one_pipeline_for_every_interpreted_scene() {
     // The specialised shader of a scene is a pipeline of its own.
     r.render(&sphere, &opts).unwrap();
     assert_eq!(r.pipeline_compilations(), 2);
+    // A union read as data runs on the variant that walks it: one more, for every such
+    // union.
+    for n in [20, 40] {
+        let grid = compile("grid", &sdfc_tests::grid_scene(n));
+        let code = encode_as_data(grid.program()).unwrap().unwrap();
+        r.render_bytecode(grid.program(), &code, &opts).unwrap();
+        assert_eq!(r.pipeline_compilations(), 3);
+    }
 }
 
 #[test]

@@ -112,10 +112,10 @@ fn with_no_grace_the_interpreter_draws_a_preview_then_the_specialised_shader_the
     assert_eq!(report.wgsl, c.wgsl);
     assert_eq!(report.first_pixel(), report.interpreted.unwrap());
     // The specialised pipeline was built once, into the cache: rendering again compiles
-    // nothing (the interpreter's pipeline is the other compilation).
-    assert_eq!(r.pipeline_compilations(), 2);
+    // nothing (the interpreter's two variants, warmed, are the other compilations).
+    assert_eq!(r.pipeline_compilations(), 3);
     r.render(&c, &opts).unwrap();
-    assert_eq!(r.pipeline_compilations(), 2);
+    assert_eq!(r.pipeline_compilations(), 3);
 }
 
 #[test]
@@ -292,26 +292,87 @@ fn close_grid() -> String {
     )
 }
 
+/// Where the preview's depths may differ from the final frame's: on grazing rays. At 24x18
+/// the hit test accepts a point within half a pixel's footprint of a surface (about 0.4
+/// units at the grid's depth), and where a ray passes that close to a shape without
+/// touching it, where it stops depends on the path of its relaxed steps, which the two
+/// programs' roundings (and a union read as data, whose field away from the shapes is its
+/// boxes' bound) change: one such pixel of the 300-shape grid's 432 stopped at 15.59 in the
+/// preview and 15.50 in the final frame.
+const GRAZING: usize = 2;
+
+/// Asserts that `actual`'s hits and depths (within 1e-4) are `expected`'s but on at most
+/// [`GRAZING`] pixels; returns the number of hits.
+fn same_depths_but_grazing(expected: &[f32], actual: &[f32]) -> usize {
+    let differ: Vec<(usize, f32, f32)> = expected
+        .iter()
+        .zip(actual)
+        .enumerate()
+        .filter(|(_, (e, a))| {
+            e.is_finite() != a.is_finite() || (e.is_finite() && (*e - *a).abs() > 1e-4 * *e)
+        })
+        .map(|(i, (e, a))| (i, *e, *a))
+        .collect();
+    assert!(
+        differ.len() <= GRAZING,
+        "(pixel, final, preview) differ: {differ:?}"
+    );
+    expected.iter().filter(|d| d.is_finite()).count()
+}
+
+/// `src`'s root union with its first sphere made a shell, which keeps the union code: a
+/// union of instances has primitives only (`sdfc_ir::instances`), and is previewed as data.
+fn as_code(src: &str) -> String {
+    assert!(
+        src.contains("sphere(0.3)"),
+        "the grid's first sphere has changed"
+    );
+    src.replacen("sphere(0.3)", "sphere(0.3).onion(0.05)", 1)
+}
+
 /// `sdfc_wgsl::lower_live` lowers a large union twice: plainly for the specialised shader
 /// and with culling for the preview, whose bytecode jumps over the parts a step does not
-/// need. From close by, the 300-shape grid's culled preview is drawn whole (no pixel cut
-/// short, where the plain preview lost 63 of 432 on lavapipe), with the final frame's hits
-/// and depths (the culled field is exact near the surface). A small scene is lowered once.
+/// need. From close by, the 300-shape grid's culled preview (a shell among its children
+/// keeps the union code) is drawn whole (no pixel cut short, where the plain preview lost 63
+/// of 432 on lavapipe), with the final frame's hits and depths (the culled field is exact
+/// near the surface). A small scene is lowered once.
 #[test]
 fn a_large_union_is_previewed_culled() {
     let Some(_) = renderer() else { return };
     let small = sdfc_wgsl::lower_live(SCENE, &Default::default()).unwrap();
     assert!(small.preview.is_none() && !small.stages.program.culls());
-    let lowered = sdfc_wgsl::lower_live(&close_grid(), &Default::default()).unwrap();
+    let lowered = sdfc_wgsl::lower_live(&as_code(&close_grid()), &Default::default()).unwrap();
     let preview = lowered
         .preview
-        .clone()
+        .as_ref()
         .expect("a culled program for the preview");
     assert!(preview.culls() && !lowered.stages.program.culls());
+    previewed_whole(&lowered, false);
+}
+
+/// A root union of 16 or more constant shapes is previewed as data: the interpreter walks
+/// the instances in their hierarchy of boxes (`encode_as_data`) instead of running the
+/// union's code, so that the preview costs what the shapes near each ray cost. From close
+/// by, the 300-shape grid's preview is drawn whole, with the final frame's hits and depths
+/// (but for grazing rays), and `lower_live` does not lower it culled.
+#[test]
+fn a_union_of_instances_is_previewed_as_data() {
+    let Some(_) = renderer() else { return };
+    let lowered = sdfc_wgsl::lower_live(&close_grid(), &Default::default()).unwrap();
+    // Not lowered culled: the preview reads the data.
+    assert!(lowered.preview.is_none());
+    previewed_whole(&lowered, true);
+}
+
+/// Renders `lowered` live at 24x18 (its preview as `lower_live` chose, at full size) on a
+/// renderer of its own, and checks the preview: drawn on a CPU device (the specialised
+/// pipeline takes lavapipe seconds to build), from data or not as `as_data` says, no pixel
+/// cut short, and the final frame's hits and depths but on grazing rays.
+fn previewed_whole(lowered: &sdfc_wgsl::Lowered, as_data: bool) {
     let r = Renderer::new().unwrap();
     r.warm_interpreter().unwrap();
     let options = LiveOptions {
-        preview: Some(preview),
+        preview: lowered.preview.clone(),
         ..live(Duration::ZERO, 1)
     };
     let opts = RenderOptions {
@@ -323,18 +384,18 @@ fn a_large_union_is_previewed_culled() {
         "preview {:?}, {} pixels cut, skipped: {:?}",
         report.interpreted, report.preview_cut, report.preview_skipped
     );
-    eprintln!("grid_300 close, culled preview: {summary}");
+    eprintln!("grid_300 close, preview as data {as_data}: {summary}");
     if r.adapter_description().software {
-        // The specialised 300-shape pipeline takes lavapipe seconds to build.
         assert!(report.interpreted.is_some(), "{summary}");
     }
     if report.interpreted.is_none() {
         return;
     }
+    assert_eq!(report.preview_as_data, as_data, "{summary}");
     assert_eq!(report.preview_cut, 0, "{summary}");
     let (first, last) = (&frames[0].1, &frames[1].1);
     let (a, b) = (first.aovs.as_ref().unwrap(), last.aovs.as_ref().unwrap());
-    let hits = sdfc_tests::assert_same_depths(&b.depth, &a.depth, 1e-4, "preview");
+    let hits = same_depths_but_grazing(&b.depth, &a.depth);
     assert!(hits > 100, "{hits} hits");
 }
 
@@ -342,12 +403,14 @@ fn a_large_union_is_previewed_culled() {
 /// than a tenth of its pixels is skipped with the reason; one with fewer is drawn, and the
 /// report counts them. The 300-shape grid needs about 1 100 instructions per distance: on
 /// lavapipe, from close by (24x18) 63 of 432 pixels ran out, from its own camera (20x15) 2
-/// of 300. A GPU has no such budget.
+/// of 300. A GPU has no such budget. (The grids' unions are kept code, [`as_code`]: as data
+/// their previews run a few hundred instructions per distance.)
 #[test]
 fn a_preview_cut_short_by_the_loop_budget_is_counted_or_skipped() {
     let Some(shared) = renderer() else { return };
-    let grid = sdfc_tests::grid_scene(300);
-    for (name, src, (w, h)) in [("close", close_grid(), (24, 18)), ("far", grid, (20, 15))] {
+    let grid = as_code(&sdfc_tests::grid_scene(300));
+    let close = as_code(&close_grid());
+    for (name, src, (w, h)) in [("close", close, (24, 18)), ("far", grid, (20, 15))] {
         // A renderer of its own, so that the scene's pipeline is not in its cache.
         let r = Renderer::new().unwrap();
         r.warm_interpreter().unwrap();

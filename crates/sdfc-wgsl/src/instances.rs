@@ -30,6 +30,15 @@ pub fn plan(p: &Program) -> Option<Plan> {
     if p.scene.render.normals == Normals::Analytic || frame.distance_ray.is_some() {
         return None;
     }
+    plan_interpreted(p)
+}
+
+/// The plan for `p`'s interpreted form (`interp::encode::encode_instances`), or `None` where
+/// its root is not a union of instances. The interpreter marches with `scene_distance` and
+/// difference normals only (analytic normals fall back to the tetrahedron there), so only
+/// the union decides.
+pub fn plan_interpreted(p: &Program) -> Option<Plan> {
+    let frame = p.marched();
     // The program's own analysis of its scene: the instances' boxes, the kinds' functions.
     let found = find(&p.scene, &p.analysis, frame.origin.map(f64::from))?;
     let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &p.analysis, &found.templates)
@@ -41,7 +50,7 @@ pub fn plan(p: &Program) -> Option<Plan> {
 
 /// Words of an instance's record before its arguments: quaternion, centre and scale, kind
 /// and material. The record is padded to whole vec4s.
-const HEAD: usize = 10;
+pub const HEAD: usize = 10;
 
 /// The bits of an f32.
 fn bits(x: f64) -> u32 {
@@ -58,6 +67,11 @@ impl Plan {
     /// The buffer at binding 3, as `shaders/instances.wgsl` reads it: the nodes, then the
     /// instances' records in leaf order, little-endian.
     pub fn data(&self) -> Vec<u8> {
+        self.words().iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+
+    /// The buffer's words ([`Plan::data`]), a whole number of vec4s.
+    pub fn words(&self) -> Vec<u32> {
         let nodes = &self.found.nodes;
         let leaves: Vec<u32> = nodes.iter().filter_map(|n| n.leaf).collect();
         let mut record = vec![0u32; self.found.items.len()];
@@ -86,7 +100,7 @@ impl Plan {
                 words[8 * k + 7] = 1 + record[i as usize];
             }
         }
-        words.iter().flat_map(|w| w.to_le_bytes()).collect()
+        words
     }
 
     /// The WGSL of the scene functions: the kinds' functions, their `switch`, the materials'

@@ -174,8 +174,8 @@ pub struct Lowered {
     /// Warnings about the scene, placed.
     pub warnings: Vec<Diagnostic>,
     /// From [`lower_live`]: the scene lowered with culling for the interpreted preview, where
-    /// that differs from `stages.program` (a union large enough to cull, and `cull` not
-    /// asked for). The interpreter's skips pay wherever neighbouring pixels take them alike,
+    /// that differs from `stages.program` (a union large enough to cull, `cull` not asked
+    /// for, and the root not a union of instances, which is previewed from data). The interpreter's skips pay wherever neighbouring pixels take them alike,
     /// on lavapipe too, whose `if`s do not branch (docs/performance.md).
     pub preview: Option<std::sync::Arc<Program>>,
 }
@@ -187,8 +187,10 @@ pub fn lower(source: &str, opts: &Options) -> Result<Lowered, Failure> {
 }
 
 /// [`lower`] for the live path: also the culled program the interpreted preview draws
-/// ([`Lowered::preview`]). Both are lowered from one parse, at once on two threads (the
-/// preview waits for both; the 5 000-shape union's two take about as long as one).
+/// ([`Lowered::preview`]). Both are built from one parse, lowering and analysis
+/// (`sdfc_ir::front`), their functions at once on two threads. A root union of instances
+/// (`sdfc_ir::instances`) is previewed from data instead (`interp::encode_instances`), so
+/// its scene is not built culled.
 pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
     on_compiler_stack(|| {
         opts.check().map_err(Failure::Usage)?;
@@ -196,17 +198,21 @@ pub fn lower_live(source: &str, opts: &Options) -> Result<Lowered, Failure> {
         if opts.cull {
             return lower_parsed(&file, source, opts);
         }
-        let culling = Options {
-            cull: true,
-            ..opts.clone()
-        };
+        let front = sdfc_ir::front(&file, source.len())
+            .map_err(|d| Failure::Diagnostics(placed(d, source)))?;
+        let as_is = sdfc_ir::IrOptions { cull: false };
+        if sdfc_ir::instances::find(front.scene(), front.analysis(), [0.0; 3]).is_some() {
+            return backed(sdfc_ir::back(front, &as_is), source);
+        }
+        let culling = sdfc_ir::IrOptions { cull: true };
         let (culled, plain) = std::thread::scope(|s| {
-            let plain = compiler_thread(s, || lower_parsed(&file, source, opts));
-            let culled = lower_parsed(&file, source, &culling);
+            let copy = front.clone();
+            let plain = compiler_thread(s, || backed(sdfc_ir::back(copy, &as_is), source));
+            let culled = backed(sdfc_ir::back(front.clone(), &culling), source);
             let plain = match plain {
                 Ok(handle) => joined(handle),
                 // No second thread: one after the other.
-                Err(_) => lower_parsed(&file, source, opts),
+                Err(_) => backed(sdfc_ir::back(front, &as_is), source),
             };
             (culled, plain)
         });
@@ -243,7 +249,14 @@ fn lower_parsed(
     opts: &Options,
 ) -> Result<Lowered, Failure> {
     let ir = sdfc_ir::IrOptions { cull: opts.cull };
-    let (stages, warnings) = sdfc_ir::compile_with(file, source.len(), &ir);
+    backed(sdfc_ir::compile_with(file, source.len(), &ir), source)
+}
+
+/// The stages of `source` (or its diagnostics, placed) as [`Lowered`], without a preview.
+fn backed(
+    (stages, warnings): (Option<Stages>, Vec<Diagnostic>),
+    source: &str,
+) -> Result<Lowered, Failure> {
     let warnings = placed(warnings, source);
     match stages {
         Some(stages) => Ok(Lowered {

@@ -52,6 +52,39 @@ fn the_interpreter_shader_passes_naga() {
     }
 }
 
+/// The variant that walks a union read as data is the same module with the walk's four
+/// cases and `shaders/interpreter/instances.wgsl`, valid, and with no loop in an
+/// instruction either; the other has none of the walk.
+#[test]
+fn the_walking_variant_adds_the_walk_only() {
+    use interp::Variant;
+    let code = interp::emit_variant(1, Variant::Code);
+    let walk = interp::emit_variant(1, Variant::Walk);
+    assert_eq!(code, interp::emit());
+    if let Err(report) = sdfc_wgsl::validate::validate("walk.wgsl", &walk) {
+        panic!("{report}");
+    }
+    assert!(interp::shader_variant(interp::CPU_UNROLL, Variant::Walk).is_ok());
+    for word in [
+        "case OP_INSTANCES:",
+        "fn walk_trip(",
+        "var<private> walk_at",
+    ] {
+        assert_eq!(walk.matches(word).count(), 1, "{word}");
+        assert!(!code.contains(word), "{word}");
+    }
+    for word in ["walk_", "case OP_ARG"] {
+        assert!(!code.contains(word), "{word}");
+    }
+    assert!(walk.contains(interp::INSTANCES));
+    let execute = &walk[walk.find("fn execute(").unwrap()..walk.find("fn interpret(").unwrap()];
+    let walk_fns = interp::INSTANCES;
+    for word in ["for (", "loop {", "while "] {
+        assert!(!execute.contains(word), "a loop in an instruction: {word}");
+        assert!(!walk_fns.contains(word), "a loop in the walk: {word}");
+    }
+}
+
 /// On a CPU device two instructions run per trip: the same module otherwise, and valid.
 #[test]
 fn the_cpu_devices_interpreter_runs_two_instructions_per_trip() {
@@ -121,6 +154,34 @@ fn bytecode_of_a_culled_union() {
     let listing = code.listing();
     assert!(listing.contains("skip_unless_less"), "{listing}");
     insta::assert_snapshot!("culled_union_bytecode", listing);
+}
+
+/// A union of 16 shapes of two kinds read as data (`encode_as_data`): each kind's code
+/// before the functions, reading its arguments from the record (`arg`) and ending in
+/// `instance_done`; the distance one walk; the material a walk and two rows of the
+/// materials' table.
+#[test]
+fn bytecode_of_a_union_read_as_data() {
+    let shapes: Vec<String> = (0..16)
+        .map(|i| match i % 2 {
+            0 => format!("sphere(0.4).translate([{i}, 0, 0])"),
+            _ => format!(
+                "box([0.3, 0.2, 0.3]).rotate_y({i}0deg).material(red).translate([{i}, 0, 0])"
+            ),
+        })
+        .collect();
+    let src = format!(
+        "material red {{ color: [1, 0, 0] }}\nscene = union({});\n",
+        shapes.join(", ")
+    );
+    let p = program(&src);
+    let code = sdfc_wgsl::interp::encode_instances::encode_as_data(&p)
+        .expect("a union of instances")
+        .expect("encodes");
+    // Two vec4s per node (31 for 16 leaves), then the records: ten words before the
+    // arguments, padded to whole vec4s (a sphere's one word: 3; a box's three: 4).
+    assert_eq!(code.instances.len(), 2 * 31 + 8 * 3 + 8 * 4);
+    insta::assert_snapshot!("union_as_data_bytecode", code.listing());
 }
 
 #[test]

@@ -69,11 +69,17 @@ pub struct Bytecode {
     pub material: [u32; 2],
     /// Registers the code uses (at most [`MAX_REGISTERS`]).
     pub registers: u32,
+    /// Instructions before the two functions: the kinds' code of a union read as data
+    /// ([`encode_instances`]); 0 otherwise.
+    pub kinds: u32,
+    /// The union read as data (the hierarchy and records of `shaders/instances.wgsl`), one
+    /// `vec4<u32>` each; empty otherwise.
+    pub instances: Vec<[u32; 4]>,
 }
 
 /// An SSA value in virtual registers: a vector (or scalar) or a matrix's three columns.
 #[derive(Clone, Copy, Debug)]
-enum Val {
+pub(super) enum Val {
     /// A virtual register, or a constant of the pool ([`const_operand`]).
     Reg(u32),
     Mat([u32; 3]),
@@ -84,43 +90,59 @@ enum Val {
 
 /// What a function's `Op::Point` and `Op::Best` stand for where it is inlined.
 #[derive(Clone, Copy, Debug)]
-struct Inputs {
-    point: Val,
+pub(super) struct Inputs {
+    pub(super) point: Val,
     /// `None`: no best distance to stop at (`NO_BEST`, loaded where it is read).
-    best: Option<Val>,
+    pub(super) best: Option<Val>,
 }
 
 /// A load is reused while it is at most this many instructions old, else loaded again.
 const RELOAD_AFTER: usize = 16;
 
 /// An instruction over virtual registers (infinitely many, each written once).
-struct VIns {
-    op: Opcode,
-    dst: Option<u32>,
-    args: Vec<u32>,
-    imm: u32,
+pub(super) struct VIns {
+    pub(super) op: Opcode,
+    pub(super) dst: Option<u32>,
+    pub(super) args: Vec<u32>,
+    pub(super) imm: u32,
     /// The first argument is `args[0] - args[3]` ([`FOLDED_SUB`], [`fold_translations`]).
-    folded: bool,
+    pub(super) folded: bool,
 }
 
 /// Encoding state shared by the two functions: the constant pool.
-struct Encoder<'p> {
+pub(super) struct Encoder<'p> {
     /// The group functions the two call.
-    groups: &'p [sdfc_ir::func::Func],
-    consts: Vec<[f32; 4]>,
-    const_index: HashMap<[u32; 4], u32>,
+    pub(super) groups: &'p [sdfc_ir::func::Func],
+    pub(super) consts: Vec<[f32; 4]>,
+    pub(super) const_index: HashMap<[u32; 4], u32>,
+    /// In a kind's code (`encode_instances`): `Op::Param(i)` is the instance's argument i,
+    /// read by `arg` with this immediate, not the scene's param i.
+    pub(super) args: Option<Vec<u32>>,
 }
 
 /// One function being encoded: its virtual instructions.
-struct Chunk {
-    ins: Vec<VIns>,
+pub(super) struct Chunk {
+    pub(super) ins: Vec<VIns>,
     next: u32,
     /// The latest load of each input: its register and the instruction it sits at.
     loads: HashMap<(Opcode, u32), (u32, usize)>,
 }
 
+impl VIns {
+    /// An instruction that writes no register (`ret`, `instance_done`).
+    pub(super) fn control(op: Opcode, args: Vec<u32>) -> VIns {
+        VIns {
+            op,
+            dst: None,
+            args,
+            imm: 0,
+            folded: false,
+        }
+    }
+}
+
 /// The point's virtual (and physical) register.
-const POINT: u32 = 0;
+pub(super) const POINT: u32 = 0;
 
 /// Marks a virtual operand that is constant `k` of the pool, not a register.
 const CONST_OPERAND: u32 = 1 << 31;
@@ -139,7 +161,7 @@ fn is_register(v: u32) -> bool {
 }
 
 impl Chunk {
-    fn new() -> Chunk {
+    pub(super) fn new() -> Chunk {
         Chunk {
             ins: Vec::new(),
             next: POINT + 1,
@@ -149,7 +171,7 @@ impl Chunk {
 
     /// A value an instruction can read: a param or the time is loaded here, or its load
     /// reused while recent (a constant is an operand already, [`const_operand`]).
-    fn materialize(&mut self, v: Val) -> Val {
+    pub(super) fn materialize(&mut self, v: Val) -> Val {
         match v {
             Val::Load(op, imm) => Val::Reg(self.load(op, imm)),
             _ => v,
@@ -169,7 +191,7 @@ impl Chunk {
         r
     }
 
-    fn emit(&mut self, op: Opcode, args: &[u32], imm: u32) -> u32 {
+    pub(super) fn emit(&mut self, op: Opcode, args: &[u32], imm: u32) -> u32 {
         let dst = self.next;
         self.next += 1;
         self.ins.push(VIns {
@@ -200,6 +222,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         groups,
         consts: Vec::new(),
         const_index: HashMap::new(),
+        args: None,
     };
     let mut code = Vec::new();
     let mut registers = 1;
@@ -212,13 +235,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let mut chunk = Chunk::new();
     let d = e.func(&mut chunk, distance, &distance.results, top, 0)?;
     let d = reg(d[0], "the distance")?;
-    chunk.ins.push(VIns {
-        op: Opcode::Ret,
-        dst: None,
-        args: vec![d],
-        imm: 0,
-        folded: false,
-    });
+    chunk.ins.push(VIns::control(Opcode::Ret, vec![d]));
     let start = code.len() as u32;
     registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
     let distance = [start, code.len() as u32];
@@ -233,13 +250,9 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     }
     let albedo = reg(m[0], "the albedo")?;
     let phong = reg(m[1], "the phong coefficients")?;
-    chunk.ins.push(VIns {
-        op: Opcode::Ret,
-        dst: None,
-        args: vec![albedo, phong],
-        imm: 0,
-        folded: false,
-    });
+    chunk
+        .ins
+        .push(VIns::control(Opcode::Ret, vec![albedo, phong]));
     let start = code.len() as u32;
     registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
     let material = [start, code.len() as u32];
@@ -256,10 +269,12 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         distance,
         material,
         registers,
+        kinds: 0,
+        instances: Vec::new(),
     })
 }
 
-fn reg(v: Val, what: &str) -> Result<u32, EncodeError> {
+pub(super) fn reg(v: Val, what: &str) -> Result<u32, EncodeError> {
     match v {
         Val::Reg(r) => Ok(r),
         Val::Mat(_) => Err(EncodeError::Unsupported(format!("{what} is a matrix"))),
@@ -267,7 +282,7 @@ fn reg(v: Val, what: &str) -> Result<u32, EncodeError> {
     }
 }
 
-fn unsupported(what: impl fmt::Display) -> EncodeError {
+pub(super) fn unsupported(what: impl fmt::Display) -> EncodeError {
     EncodeError::Unsupported(what.to_string())
 }
 
@@ -314,7 +329,7 @@ impl Encoder<'_> {
 
     /// Encodes the nodes of `f` that `results` need, with `point` as `Op::Point`; returns the
     /// results' values.
-    fn func(
+    pub(super) fn func(
         &mut self,
         c: &mut Chunk,
         f: &Func,
@@ -503,7 +518,13 @@ impl Encoder<'_> {
                 Some(v) => Ok(v),
                 None => self.load_const(&Value::F(NO_BEST)),
             },
-            Op::Param(i) => Ok(Val::Load(Opcode::Param, u32::from(i))),
+            Op::Param(i) => match &self.args {
+                Some(args) => match args.get(usize::from(i)) {
+                    Some(&imm) => Ok(Val::Load(Opcode::Arg, imm)),
+                    None => Err(unsupported(format!("argument {i} of a kind"))),
+                },
+                None => Ok(Val::Load(Opcode::Param, u32::from(i))),
+            },
             // As in the WGSL emitter: only reachable if a lambda argument escaped substitution.
             Op::LambdaArg { .. } => self.load_const(&sdfc_ir::eval::zero_of(node.ty)),
             Op::Call { .. } => Err(unsupported("a nested call")),
@@ -766,7 +787,7 @@ fn demand_order(g: &Graph, results: &[NodeId]) -> Vec<NodeId> {
 
 /// The peephole folds, in order: translations first, so that a bound's `abs` carries its
 /// own into the `far_corner`.
-fn fold(ins: Vec<VIns>) -> Vec<VIns> {
+pub(super) fn fold(ins: Vec<VIns>) -> Vec<VIns> {
     fold_far_corners(fold_translations(ins))
 }
 
@@ -923,7 +944,7 @@ fn kept(mut ins: Vec<VIns>, keep: &[bool]) -> Vec<VIns> {
 
 /// Maps virtual registers to physical ones (reused after their value's last read), appends
 /// the instructions to `code`; returns how many registers they use.
-fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> {
+pub(super) fn allocate(ins: &[VIns], code: &mut Vec<[u32; 4]>) -> Result<u32, EncodeError> {
     // Virtual registers are small dense numbers: tables indexed by them, not maps.
     const NONE: u32 = u32::MAX;
     let virtuals = virtual_registers(ins);
@@ -1012,7 +1033,13 @@ impl Bytecode {
         for (i, c) in self.consts.iter().enumerate() {
             let _ = writeln!(s, "c{i} = {c:?}");
         }
-        for (name, [start, end]) in [("distance", self.distance), ("material", self.material)] {
+        let kinds = ("kinds", [0, self.kinds]);
+        let functions = [("distance", self.distance), ("material", self.material)];
+        for (name, [start, end]) in (self.kinds > 0)
+            .then_some(kinds)
+            .into_iter()
+            .chain(functions)
+        {
             let _ = writeln!(s, "{name}:");
             for pc in start..end {
                 let [op, d, a01, a23] = self.code[pc as usize];
@@ -1042,9 +1069,15 @@ impl Bytecode {
                     ),
                     Opcode::MatRow => format!(" row {imm}"),
                     Opcode::SkipUnlessLess => format!(" to {}", pc + 1 + imm),
+                    Opcode::Instances => format!(" kinds c{imm}"),
+                    Opcode::Arg => format!(" word {} x{}", imm & 0xff, imm >> 8),
+                    Opcode::MaterialRow => format!(" table c{imm}"),
                     _ => String::new(),
                 };
-                let lhs = if matches!(op, Opcode::Ret | Opcode::SkipUnlessLess) {
+                let lhs = if matches!(
+                    op,
+                    Opcode::Ret | Opcode::SkipUnlessLess | Opcode::InstanceDone
+                ) {
                     String::new()
                 } else {
                     format!("r{dst} = ")
@@ -1063,11 +1096,12 @@ impl Bytecode {
 pub(crate) fn arity(op: Opcode) -> usize {
     use Opcode::*;
     match op {
-        Param | Time => 0,
+        Param | Time | Arg => 0,
         Ret => 2,
         Neg | Swizzle | Abs | Sign | Floor | Ceil | Fract | Round | Sqrt | Exp | Log | Sin
         | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4
-        | Normalize2 | Normalize3 | Normalize4 | Noise | NoiseGradient | Mov => 1,
+        | Normalize2 | Normalize3 | Normalize4 | Noise | NoiseGradient | Mov | Instances
+        | InstanceDone | MaterialRow => 1,
         Select | Clamp | Mix | Smoothstep | MatRow | SdRoundBox | SdTorus | SdCylinder
         | RotateX | RotateY | RotateZ | SdBoxFrame | SdHexPrism | SdTriPrism => 3,
         MakeVec | Mat3Vec | SdCapsule | SdCappedTorus | SdCappedCone | SdMandelbulb

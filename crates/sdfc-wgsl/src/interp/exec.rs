@@ -7,12 +7,17 @@
 //! helper's `case` line in the shader, so the two cannot drift apart.
 
 use super::encode::{arity, Bytecode, MAX_REGISTERS};
+use super::exec_walk::{Trip, Walk};
 use super::opcodes::{builtin_opcode, decode, helper_opcode, Opcode};
 use super::INTERPRET;
 use sdfc_ir::eval::apply;
 use sdfc_ir::ops::{Builtin, Helper, Op};
 use sdfc_ir::types::Ty;
 use sdfc_ir::value::Value;
+
+/// Instructions one run may take: far more than any scene's (a union's walk visits each
+/// node at most once per call).
+const MAX_TRIPS: u64 = 1 << 28;
 
 /// One of the two functions of a program.
 #[derive(Clone, Copy, Debug)]
@@ -40,7 +45,14 @@ pub fn run(
     regs[0] = [p[0], p[1], p[2], 0.0];
     let last = end.checked_sub(1).ok_or("an empty function")?;
     let mut pc = start;
+    let mut walk = Walk::default();
+    // A walk jumps back; a fault in it must not loop for ever.
+    let mut trips = 0u64;
     while pc < last {
+        trips += 1;
+        if trips > MAX_TRIPS {
+            return Err(format!("more than {MAX_TRIPS} instructions run"));
+        }
         let [op, y, z, w] = code.code[pc as usize];
         let (dst, imm) = ((y & 0xffff) as usize, y >> 16);
         let reg = |i: u32| operand(&regs, code, i);
@@ -59,8 +71,30 @@ pub fn run(
         } else {
             a
         };
-        let r = execute(op, imm, [a, b, c, d], params, time)
-            .ok_or_else(|| format!("{} at {pc}", op.mnemonic()))?;
+        let r = match op {
+            Opcode::Instances => {
+                match walk.trip(code, pc, [a[0], a[1], a[2]], imm, &mut regs[0])? {
+                    Trip::Jump(to) => {
+                        pc = to;
+                        continue;
+                    }
+                    Trip::Over(r) => Some(r),
+                }
+            }
+            Opcode::InstanceDone => {
+                pc = walk.back(a[0], &mut regs[0])?;
+                continue;
+            }
+            Opcode::Arg => Some(walk.arg(code, imm)?),
+            Opcode::MaterialRow => Some(
+                *code
+                    .consts
+                    .get((imm + 2 * a[1] as u32) as usize)
+                    .ok_or("a material out of range")?,
+            ),
+            _ => execute(op, imm, [a, b, c, d], params, time)
+                .ok_or_else(|| format!("{} at {pc}", op.mnemonic()))?,
+        };
         // `!(a < b)`, as the shader says it: NaN skips too.
         let less = a[0].partial_cmp(&b[0]) == Some(std::cmp::Ordering::Less);
         if op == Opcode::SkipUnlessLess && !less {

@@ -1,7 +1,7 @@
 //! The interpreter's per-frame inputs, laid out as `shaders/interpreter/interface.wgsl`
 //! declares them: the `Frame` buffer (image, time, camera, render settings, where things
 //! sit in the data buffer) and the data buffer (lights, params, the scene's bounds,
-//! constants).
+//! constants, a union read as data).
 
 use super::encode::Bytecode;
 use crate::marcher::{camera_basis, root_bounds, span_slabs};
@@ -10,7 +10,7 @@ use sdfc_ir::types::Ty;
 use sdfc_ir::Program;
 
 /// Bytes of the `Frame` buffer.
-pub const FRAME_BYTES: usize = 192;
+pub const FRAME_BYTES: usize = 208;
 
 /// `Frame.switches` bit: `epsilon: pixel` (else the absolute `Frame.epsilon`).
 const SWITCH_EPSILON_PIXEL: u32 = 1;
@@ -126,6 +126,8 @@ pub fn frame_data_with(
     if code.consts.is_empty() {
         data.push([0.0; 4]);
     }
+    // A union read as data comes last, its words as they are (floats by their bits).
+    let instances_at = data.len() as u32;
 
     let mut w = Writer(Vec::with_capacity(FRAME_BYTES));
     for h in header {
@@ -186,11 +188,15 @@ pub fn frame_data_with(
     w.u(params_at);
     w.u(consts_at);
     w.u(bounds_at);
-    debug_assert_eq!(w.0.len(), FRAME_BYTES);
+    w.u(instances_at);
+    // The struct's size is a multiple of its alignment (16, its vec3s').
+    w.0.resize(FRAME_BYTES, 0);
 
     let data_bytes = data
         .iter()
         .flatten()
+        .map(|x| x.to_bits())
+        .chain(code.instances.iter().flatten().copied())
         .flat_map(|x| x.to_le_bytes())
         .collect();
     let code_bytes = code

@@ -46,6 +46,18 @@ opcodes! {
     SkipUnlessLess = 4, "OP_SKIP_UNLESS_LESS", "skip_unless_less";
     // A copy: a skipped part's results are written before the skip and again after it.
     Mov = 5, "OP_MOV", "mov";
+    // A union read as data (`encode::encode_instances`): one node of its hierarchy per
+    // trip, staying at its pc, and at a leaf a jump to its kind's code with register 0 set
+    // to the instance's local point; when the walk is over, (distance, material index).
+    // `imm`: where the kinds' first instructions are listed in the pool.
+    Instances = 6, "OP_INSTANCES", "instances";
+    // The end of a kind's code: its distance, back to the walk.
+    InstanceDone = 7, "OP_INSTANCE_DONE", "instance_done";
+    // An argument of the instance being evaluated: word `imm & 0xff` of its record, `imm >> 8`
+    // words wide (a scalar splatted).
+    Arg = 8, "OP_ARG", "arg";
+    // Row `imm + 2 a.y` of the pool: a material's albedo or phong by its index.
+    MaterialRow = 9, "OP_MATERIAL_ROW", "material_row";
     // Arithmetic and comparisons (component-wise; scalars are kept splatted).
     Neg = 10, "OP_NEG", "neg";
     Add = 11, "OP_ADD", "add";

@@ -2,7 +2,7 @@
 
 use crate::out::{say, say_part};
 use crate::{read_source, report, Outcome};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -29,6 +29,15 @@ pub struct Args {
     /// by default: on the software device measured so far it is slower (docs/performance.md)
     #[arg(long)]
     cull: bool,
+    /// Read the scene's root union from a buffer, as `sdfc render --instances` does: the WGSL
+    /// walks instances in a hierarchy of boxes (bound at group 0, binding 3, as
+    /// `array<vec4<u32>>`) instead of holding each shape's code, and the buffer's bytes go to
+    /// the --data file. A scene without such a union is compiled as usual, with a note
+    #[arg(long, requires = "data", conflicts_with_all = ["cull", "lib"])]
+    instances: bool,
+    /// With --instances: where to write the buffer (little-endian 32-bit words)
+    #[arg(long, value_name = "OUT.bin", requires = "instances")]
+    data: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -49,9 +58,11 @@ fn import_path(s: &str) -> Result<String, String> {
 }
 
 pub fn run(a: Args) -> Outcome {
-    if a.lib && !matches!(a.emit, Emit::Wgsl) {
-        say!("sdfc: --lib shapes the WGSL; it has no effect on --emit ast, ir or opt-ir");
-        return Outcome::EnvError;
+    for (set, flag) in [(a.lib, "--lib"), (a.instances, "--instances")] {
+        if set && !matches!(a.emit, Emit::Wgsl) {
+            say!("sdfc: {flag} shapes the WGSL; it has no effect on --emit ast, ir or opt-ir");
+            return Outcome::EnvError;
+        }
     }
     let path = a.scene.display().to_string();
     let source = match read_source(&a.scene) {
@@ -62,7 +73,7 @@ pub fn run(a: Args) -> Outcome {
         lib: a.lib,
         import_path: a.import_path.clone(),
         cull: a.cull,
-        ..sdfc_wgsl::Options::default()
+        instances: a.instances,
     };
     let text = if let Emit::Ast = a.emit {
         match sdfc_syntax::parse(&source) {
@@ -82,6 +93,14 @@ pub fn run(a: Args) -> Outcome {
                 sdfc_ir::analysis::explain(&p.scene, &p.analysis, &source)
             );
         }
+        if let Some(out) = &a.data {
+            if compiled.data.is_empty() {
+                let instead = "it is compiled as code, and no data file is written";
+                say!("{}", crate::render::instances_note(true, instead));
+            } else if let Err(o) = write(out, &compiled.data) {
+                return o;
+            }
+        }
         match a.emit {
             Emit::Wgsl => compiled.wgsl,
             Emit::Ir => sdfc_ir::dump::scene_text(&compiled.stages.lowered),
@@ -89,13 +108,15 @@ pub fn run(a: Args) -> Outcome {
         }
     };
     match &a.output {
-        Some(out) => match std::fs::write(out, text) {
-            Ok(()) => Outcome::Ok,
-            Err(e) => {
-                say!("sdfc: cannot write {}: {e}", out.display());
-                Outcome::EnvError
-            }
-        },
+        Some(out) => write(out, text.as_bytes()).err().unwrap_or(Outcome::Ok),
         None => crate::out::print_last(&text),
     }
+}
+
+/// Writes `bytes` to `out`, or says why not.
+fn write(out: &Path, bytes: &[u8]) -> Result<(), Outcome> {
+    std::fs::write(out, bytes).map_err(|e| {
+        say!("sdfc: cannot write {}: {e}", out.display());
+        Outcome::EnvError
+    })
 }

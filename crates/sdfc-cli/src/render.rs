@@ -225,11 +225,21 @@ fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
     }
 }
 
-/// Why `--instances` changed nothing.
-const INSTANCES_NOTE: &str = "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant shapes (each a primitive, moved, turned or scaled by constants, with a material), or the scene uses analytic normals; it is compiled as code";
-
-/// Why `--interpreted --instances` changed nothing.
-const INTERPRETED_INSTANCES_NOTE: &str = "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant shapes (each a primitive, moved, turned or scaled by constants, with a material); the interpreter runs it as code";
+/// Why `--instances` changed nothing, then what was done instead. The specialised shader
+/// also keeps the union as code where the scene uses analytic normals; the interpreter has
+/// none (`normals`).
+pub fn instances_note(normals: bool, instead: &str) -> String {
+    let analytic = if normals {
+        ", or the scene uses analytic normals"
+    } else {
+        ""
+    };
+    format!(
+        "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant \
+         shapes (each a primitive, moved, turned or scaled by constants, with a material){analytic}; \
+         {instead}"
+    )
+}
 
 /// A frame from the interpreted marcher; with `instances`, its root union read as data where
 /// it is a union of instances (`encode_as_data`), else as code with a note.
@@ -248,7 +258,10 @@ fn interpreted(
             renderer.render_bytecode(program, &code, opts)
         }
         None => {
-            say!("{}", INTERPRETED_INSTANCES_NOTE);
+            say!(
+                "{}",
+                instances_note(false, "the interpreter runs it as code")
+            );
             renderer.render_interpreted(program, opts)
         }
     }
@@ -367,7 +380,7 @@ pub fn run(a: Args) -> Outcome {
         Err(o) => return o,
     };
     if a.instances && !a.interpreted && compiled.data.is_empty() {
-        say!("{}", INSTANCES_NOTE);
+        say!("{}", instances_note(true, "it is compiled as code"));
     }
     let params = to_f32(&overrides);
     let opts = RenderOptions {

@@ -69,6 +69,57 @@ fn compile_with_output_file_writes_it() {
     assert_eq!(std::fs::read_to_string(&out2).expect("written"), written);
 }
 
+/// `--instances --data OUT.bin`: a union of many constant shapes is compiled to WGSL that
+/// reads it from the buffer at binding 3, and the buffer's bytes are written, as the
+/// library compiles them; a scene without such a union is compiled as code, with a note and
+/// no data file; `--instances` needs `--data`, and does not go with `--lib` or `--cull`.
+#[test]
+fn compile_instances_writes_the_wgsl_and_its_data() {
+    let t = TempDir::new("compile-instances");
+    let grid_src = sdfc_tests::grid_scene(40);
+    let grid = t.write("grid.sdf", &grid_src);
+    let (out, data) = (t.path("grid.wgsl"), t.path("grid.bin"));
+    let args = ["--instances", "--data", s(&data), "-o", s(&out)];
+    let run = sdfc_in(&t.0, &[&["compile", s(&grid)][..], &args].concat()).expect_code(0);
+    assert!(run.stderr.is_empty(), "{}", run.describe());
+    let wgsl = std::fs::read_to_string(&out).expect("the WGSL is written");
+    validate(&wgsl);
+    assert!(wgsl.contains("@group(0) @binding(3) var<storage, read> scene_data"));
+    let opts = sdfc_wgsl::Options {
+        instances: true,
+        ..Default::default()
+    };
+    let library = sdfc_wgsl::compile(&grid_src, &opts).unwrap();
+    assert_eq!(wgsl, library.wgsl);
+    let bytes = std::fs::read(&data).expect("the data is written");
+    assert!(!bytes.is_empty() && bytes.len() % 16 == 0);
+    assert_eq!(bytes, library.data);
+
+    let sphere = t.write("sphere.sdf", SPHERE);
+    let none = t.path("sphere.bin");
+    let run = sdfc_in(
+        &t.0,
+        &["compile", s(&sphere), "--instances", "--data", s(&none)],
+    )
+    .expect_code(0);
+    validate(&run.stdout);
+    assert!(
+        run.stderr.contains("no data file is written"),
+        "{}",
+        run.describe()
+    );
+    assert!(!none.exists());
+
+    for wrong in [
+        &["--instances"][..],
+        &["--instances", "--data", s(&data), "--lib"],
+        &["--instances", "--data", s(&data), "--cull"],
+        &["--instances", "--data", s(&data), "--emit", "ir"],
+    ] {
+        sdfc_in(&t.0, &[&["compile", s(&grid)][..], wrong].concat()).expect_code(2);
+    }
+}
+
 #[test]
 fn compile_lib_has_functions_and_no_entry_point() {
     let t = TempDir::new("compile-lib");

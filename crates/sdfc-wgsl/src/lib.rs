@@ -175,8 +175,9 @@ pub struct Lowered {
     pub warnings: Vec<Diagnostic>,
     /// From [`lower_live`]: the scene lowered with culling for the interpreted preview, where
     /// that differs from `stages.program` (a union large enough to cull, `cull` not asked
-    /// for, and the root not a union of instances, which is previewed from data). The interpreter's skips pay wherever neighbouring pixels take them alike,
-    /// on lavapipe too, whose `if`s do not branch (docs/performance.md).
+    /// for, and the root not a union of instances, which is previewed from data). The
+    /// interpreter's skips pay wherever neighbouring pixels take them alike, on lavapipe too,
+    /// whose `if`s do not branch (docs/performance.md).
     pub preview: Option<std::sync::Arc<Program>>,
 }
 

@@ -1,13 +1,14 @@
-// A large union read as data by the interpreter (`interp::encode::encode_instances`, the live
-// path's preview of such a union): the hierarchy and records of shaders/instances.wgsl, at
-// `frame.instances_at` in `data`, walked as that file's `scene_nearest` walks them (same
-// rules, same hint, same result). The walk runs one node per trip of the interpreter's loop
-// and stays at its pc, as a fractal's orbit does (a loop inside the switch would spend the
-// loop budget of lavapipe, see interpret.wgsl); at a leaf it jumps to its kind's code (before
-// the functions' ranges) with register 0 set to the instance's local point, and that code's
-// OP_INSTANCE_DONE comes back to the walk with the point restored. No kind is a fractal, so
-// the walk and an orbit are never in progress at once. Only the interpreter's variant for
-// such bytecode has this file and the four cases (`interp::Variant::Walk`).
+// A large union read as data by the interpreter (`interp::encode_instances`: the live path's
+// preview of such a union, `sdfc render --interpreted --instances`): the hierarchy and
+// records of shaders/instances.wgsl, at `frame.instances_at` in `data`, walked as that
+// file's `scene_nearest` walks them (same rules, same hint, same result). The walk runs one
+// node per trip of the interpreter's loop and stays at its pc, as a fractal's orbit does (a
+// loop inside the switch would spend the loop budget of lavapipe, see interpret.wgsl); at a
+// leaf it jumps to its kind's code (before the functions' ranges) with register 0 set to the
+// instance's local point, and that code's OP_INSTANCE_DONE comes back to the walk with the
+// point restored. No kind is a fractal, so the walk and an orbit are never in progress at
+// once. Only the interpreter's variant for such bytecode has this file and the four cases
+// (`interp::Variant::Walk`).
 
 // The pc of the walk in progress, its point, the next node, the node after the leaf being
 // evaluated, the best distance so far and the leaf word that gave it, the leaf word being

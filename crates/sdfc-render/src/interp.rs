@@ -10,6 +10,7 @@ use sdfc_ir::scene::RenderSettings;
 use sdfc_ir::shape::{CombineOp, ShapeKind};
 use sdfc_ir::to_ssa::CULL_MIN;
 use sdfc_ir::Program;
+use sdfc_wgsl::instances::plan_interpreted;
 use sdfc_wgsl::interp::encode::{encode, Bytecode};
 use sdfc_wgsl::interp::encode_instances::encode_as_data;
 use sdfc_wgsl::interp::frame::frame_data_with;
@@ -143,7 +144,7 @@ impl Renderer {
                 unroll = sdfc_wgsl::interp::CPU_UNROLL;
                 let (_, cut) = self.render_bytecode_cut(program, settings, code, &probe, unroll)?;
                 if cut > 0 {
-                    return Err(self.cut_short(cut, &probe, program, true));
+                    return Err(self.cut_short(cut, &probe, program, code, true));
                 }
             }
         }
@@ -154,18 +155,19 @@ impl Renderer {
             (frame, cut) = self.render_bytecode_cut(program, settings, code, opts, unroll)?;
         }
         if cut > 0 {
-            return Err(self.cut_short(cut, opts, program, false));
+            return Err(self.cut_short(cut, opts, program, code, false));
         }
         Ok(frame)
     }
 
-    /// Why a frame with `cut` pixels cut short by the device's loop budget is refused; with
-    /// `probe`, `opts` are the probe's.
+    /// Why a frame of `code` with `cut` pixels cut short by the device's loop budget is
+    /// refused; with `probe`, `opts` are the probe's.
     pub(crate) fn cut_short(
         &self,
         cut: usize,
         opts: &RenderOptions,
         program: &Program,
+        code: &Bytecode,
         probe: bool,
     ) -> RenderError {
         let pixels = opts.width as usize * opts.height as usize;
@@ -177,8 +179,13 @@ impl Renderer {
         } else {
             format!("{pixels} pixels")
         };
-        // Culling makes the bytecode jump over the parts far from each ray.
-        let cull = if !program.culls() && has_cullable_union(program) {
+        // A union of instances read as data costs what the shapes near each ray cost, and
+        // its bytecode does not grow with them (the 5 000-shape union, refused as code, is
+        // drawn so); culling makes the bytecode jump over the parts far from each ray.
+        let cull = if code.instances.is_empty() && plan_interpreted(program).is_some() {
+            "; with `--instances` the interpreter walks the union's shapes as data, which \
+             costs what the shapes near each ray cost"
+        } else if !program.culls() && has_cullable_union(program) {
             "; with `--cull` the bytecode jumps over the parts of large unions far from each \
              ray, which may bring it within the budget"
         } else {

@@ -411,7 +411,7 @@ impl Renderer {
         // more than a tenth of them is not, and the second pipeline that would draw it
         // again would hold the final frame up.
         if cut * 10 > frame.rgba.len() / 4 {
-            return Err(self.cut_short(cut, &small, program, false));
+            return Err(self.cut_short(cut, &small, program, code, false));
         }
         Ok((enlarge(&frame, opts.width, opts.height, scale), cut))
     }

@@ -477,23 +477,44 @@ fn close_grid_1000() -> String {
 
 /// On a CPU device a frame is probed first, so that a scene the loop budget cannot draw is
 /// refused by a probe of 16 pixels across instead of after the frame was drawn twice (72 s
-/// for the 5 000-shape union at 160x120 on lavapipe, 6 s with the probe); the reason names
-/// `--cull`, which this program does not use.
+/// for the 5 000-shape union at 160x120 on lavapipe, 6 s with the probe). The reason names
+/// what would draw it: `--instances` for a union of instances (which the interpreter then
+/// walks as data, and draws), else `--cull`, which this program does not use.
 #[test]
 fn a_probe_refuses_what_the_loop_budget_cannot_draw() {
     let Some(r) = renderer() else { return };
-    let c = compile("grid_1000", &close_grid_1000());
-    match r.render_interpreted(c.program(), &RenderOptions::sized(64, 48)) {
-        Ok(_) => assert!(
-            !r.adapter_description().software,
-            "lavapipe drew the 1 000-shape union within its loop budget"
-        ),
-        Err(e) => {
-            let text = e.to_string();
-            assert!(
-                text.contains("of 192 pixels of a 16x12 probe") && text.contains("`--cull`"),
-                "{text}"
-            );
+    let opts = RenderOptions::sized(64, 48);
+    // A shell among the shapes keeps the union code.
+    let shell = close_grid_1000().replacen("sphere(0.3)", "sphere(0.3).onion(0.05)", 1);
+    for (name, src, named) in [
+        ("grid_1000", close_grid_1000(), "`--instances`"),
+        ("grid_1000 with a shell", shell, "`--cull`"),
+    ] {
+        let c = compile(name, &src);
+        match r.render_interpreted(c.program(), &opts) {
+            Ok(_) => assert!(
+                !r.adapter_description().software,
+                "{name}: lavapipe drew the 1 000-shape union within its loop budget"
+            ),
+            Err(e) => {
+                let text = e.to_string();
+                assert!(
+                    text.contains("of 192 pixels of a 16x12 probe") && text.contains(named),
+                    "{name}: {text}"
+                );
+            }
         }
     }
+    // As the reason says: read as data, the union is drawn.
+    let c = compile("grid_1000", &close_grid_1000());
+    let code = encode_as_data(c.program()).unwrap().unwrap();
+    let frame = r
+        .render_bytecode(c.program(), &code, &opts)
+        .expect("drawn as data");
+    let drawn = frame
+        .rgba
+        .chunks(4)
+        .filter(|p| p[..3] != frame.rgba[..3])
+        .count();
+    assert!(drawn > 0, "an image of one colour");
 }

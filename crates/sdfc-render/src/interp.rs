@@ -92,7 +92,7 @@ impl Renderer {
 
     /// Whether the interpreter's `variant` has drawn a frame on this device.
     fn variant_is_warm(&self, variant: Variant) -> bool {
-        self.interpreter_warm[usize::from(variant == Variant::Walk)].load(Ordering::Relaxed)
+        self.interpreter_warm[variant.index()].load(Ordering::Relaxed)
     }
 
     /// Renders a compiled program with the interpreted marcher: the same picture as
@@ -235,7 +235,7 @@ impl Renderer {
             opts,
             (gx, gy),
         )?;
-        self.interpreter_warm[usize::from(variant == Variant::Walk)].store(true, Ordering::Relaxed);
+        self.interpreter_warm[variant.index()].store(true, Ordering::Relaxed);
         let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
         Ok((frame, cut))
     }

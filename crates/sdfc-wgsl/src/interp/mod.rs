@@ -96,6 +96,11 @@ pub enum Variant {
 }
 
 impl Variant {
+    /// 0 or 1: where tables of the two variants keep this one.
+    pub fn index(self) -> usize {
+        usize::from(self == Variant::Walk)
+    }
+
     /// The module `code` runs on.
     pub fn of(code: &encode::Bytecode) -> Variant {
         if code.instances.is_empty() {
@@ -230,7 +235,7 @@ pub fn shader_variant(unroll: u32, variant: Variant) -> Result<&'static str, Fai
     type Built = OnceLock<Result<String, (String, String)>>;
     static BUILT: [Built; 4] = [const { OnceLock::new() }; 4];
     let unroll = if unroll <= 1 { 1 } else { CPU_UNROLL };
-    let slot = &BUILT[usize::from(unroll > 1) + 2 * usize::from(variant == Variant::Walk)];
+    let slot = &BUILT[usize::from(unroll > 1) + 2 * variant.index()];
     let r = slot.get_or_init(|| {
         let wgsl = emit_variant(unroll, variant);
         match validate::validate("interpreter.wgsl", &wgsl) {

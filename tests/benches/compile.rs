@@ -1,6 +1,6 @@
-//! Compile time from scene text to validated WGSL for scenes of 10, 1 000 and 5 000 shapes,
-//! and the share of each stage at 5 000; and inputs at the documented limits (a 1 MiB flat
-//! union, a scene of doubling `let`s). Run: `cargo bench -p sdfc-tests --bench compile`.
+//! Compile time from scene text to validated WGSL for scenes of 10, 1 000 and 5 000 shapes
+//! (by default, as code and as data), and the share of each stage at 5 000 (as code); and
+//! inputs at the documented limits (a 1 MiB flat union, a scene of doubling `let`s). Run: `cargo bench -p sdfc-tests --bench compile`.
 
 use sdfc_tests::{doubling_lets, grid_scene, max_size_union};
 use sdfc_wgsl::Options;
@@ -9,20 +9,34 @@ fn main() {
     divan::main();
 }
 
-/// The whole pipeline, as `sdfc compile` runs it: parse, lower, optimise, emit, validate.
+/// The whole pipeline at the default options, as `sdfc render` runs it: parse, lower,
+/// optimise, emit, validate. From 1 000 instances up the union is emitted as data
+/// (`Instances::Auto`): the WGSL no longer grows with the shapes, and the data is built.
 #[divan::bench(args = [10, 1000, 5000], sample_count = 20)]
 fn scene_to_validated_wgsl(bencher: divan::Bencher, n: usize) {
     let src = grid_scene(n);
     bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &Options::default()).is_ok());
 }
 
-/// The same with the union emitted as data (`Options::instances`, `sdfc render --instances`):
-/// the WGSL no longer grows with the shapes, and the data is built.
+/// The same with every shape's code in the WGSL (`Instances::Never`), as `sdfc compile`
+/// writes a file without `--data`.
+#[divan::bench(args = [1000, 5000], sample_count = 20)]
+fn scene_to_validated_wgsl_as_code(bencher: divan::Bencher, n: usize) {
+    let src = grid_scene(n);
+    let opts = Options {
+        instances: sdfc_wgsl::Instances::Never,
+        ..Options::default()
+    };
+    bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &opts).is_ok());
+}
+
+/// The union emitted as data from 16 instances up (`Instances::Always`,
+/// `sdfc render --instances`).
 #[divan::bench(args = [1000, 5000], sample_count = 20)]
 fn scene_to_validated_wgsl_as_data(bencher: divan::Bencher, n: usize) {
     let src = grid_scene(n);
     let opts = Options {
-        instances: true,
+        instances: sdfc_wgsl::Instances::Always,
         ..Options::default()
     };
     bencher.bench(|| sdfc_wgsl::compile(divan::black_box(&src), &opts).map_or(0, |c| c.data.len()));
@@ -64,7 +78,11 @@ fn stage_emit_5000(bencher: divan::Bencher) {
 #[divan::bench(sample_count = 20)]
 fn stage_validate_5000(bencher: divan::Bencher) {
     let src = grid_scene(5000);
-    let wgsl = sdfc_wgsl::compile(&src, &Options::default()).unwrap().wgsl;
+    let code = Options {
+        instances: sdfc_wgsl::Instances::Never,
+        ..Options::default()
+    };
+    let wgsl = sdfc_wgsl::compile(&src, &code).unwrap().wgsl;
     bencher.bench(|| sdfc_wgsl::validate::validate("bench.wgsl", divan::black_box(&wgsl)).is_ok());
 }
 

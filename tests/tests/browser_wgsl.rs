@@ -225,7 +225,7 @@ fn forms(stem: &str, source: &str, out: &mut BTreeMap<String, String>) {
         (
             "instances",
             Options {
-                instances: true,
+                instances: sdfc_wgsl::Instances::Always,
                 ..Options::default()
             },
         ),

@@ -91,7 +91,7 @@ fn every_error_file_is_rejected_with_well_formed_diagnostics() {
             lib: true,
             import_path: None,
             cull: false,
-            instances: false,
+            instances: sdfc_wgsl::Instances::Never,
         };
         assert_eq!(
             diagnostics_of(&file, &case.source, &lib),

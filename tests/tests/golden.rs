@@ -134,7 +134,7 @@ fn library_form_validates_and_matches_the_full_shader() {
             lib: true,
             import_path: None,
             cull: false,
-            instances: false,
+            instances: sdfc_wgsl::Instances::Never,
         };
         let lib = compile(&scene.stem, &scene.source, &lib_opts);
         if let Err(report) =
@@ -175,7 +175,7 @@ fn library_form_with_import_path() {
             lib: true,
             import_path: Some("my::scene".into()),
             cull: false,
-            instances: false,
+            instances: sdfc_wgsl::Instances::Never,
         };
         let with_path = compile(&scene.stem, &scene.source, &opts);
         let plain = compile(
@@ -185,7 +185,7 @@ fn library_form_with_import_path() {
                 lib: true,
                 import_path: None,
                 cull: false,
-                instances: false,
+                instances: sdfc_wgsl::Instances::Never,
             },
         );
         let first = with_path.wgsl.lines().next().unwrap_or_default();
@@ -208,7 +208,7 @@ fn import_path_without_lib_is_refused() {
         lib: false,
         import_path: Some("my::scene".into()),
         cull: false,
-        instances: false,
+        instances: sdfc_wgsl::Instances::Never,
     };
     match sdfc_wgsl::compile(&scene.source, &opts) {
         Err(Failure::Usage(m)) => assert!(m.contains("library form"), "{m}"),
@@ -270,7 +270,7 @@ fn identity_transforms_emit_identical_wgsl() {
             lib: true,
             import_path: None,
             cull: false,
-            instances: false,
+            instances: sdfc_wgsl::Instances::Never,
         },
     ] {
         let a = compile("identity_a", &a_src, &opts);
@@ -361,7 +361,7 @@ fn instances_union_wgsl() {
     }
     src += ");\n";
     let opts = Options {
-        instances: true,
+        instances: sdfc_wgsl::Instances::Always,
         ..Options::default()
     };
     let c = compile("instances_union", &src, &opts);

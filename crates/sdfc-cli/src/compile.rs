@@ -32,7 +32,9 @@ pub struct Args {
     /// Read the scene's root union from a buffer, as `sdfc render --instances` does: the WGSL
     /// walks instances in a hierarchy of boxes (bound at group 0, binding 3, as
     /// `array<vec4<u32>>`) instead of holding each shape's code, and the buffer's bytes go to
-    /// the --data file. A scene without such a union is compiled as usual, with a note
+    /// the --data file. A scene without such a union is compiled as usual, with a note.
+    /// Without it the WGSL holds the whole scene, whatever its size (`sdfc render` reads
+    /// unions of 1 000 or more shapes as data by itself)
     #[arg(long, requires = "data", conflicts_with_all = ["cull", "lib"])]
     instances: bool,
     /// With --instances: where to write the buffer (little-endian 32-bit words)
@@ -73,7 +75,12 @@ pub fn run(a: Args) -> Outcome {
         lib: a.lib,
         import_path: a.import_path.clone(),
         cull: a.cull,
-        instances: a.instances,
+        // The file must draw without a buffer unless one is written beside it.
+        instances: if a.instances {
+            sdfc_wgsl::Instances::Always
+        } else {
+            sdfc_wgsl::Instances::Never
+        },
     };
     let text = if let Emit::Ast = a.emit {
         match sdfc_syntax::parse(&source) {

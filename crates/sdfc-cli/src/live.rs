@@ -19,8 +19,8 @@ pub struct Request<'a> {
     pub size: (u32, u32),
     pub time: f32,
     pub cull: bool,
-    /// The final frame's union as data (`--instances`).
-    pub instances: bool,
+    /// When the final frame's union is data (`--instances`, `--no-instances`, or by size).
+    pub instances: sdfc_wgsl::Instances,
     pub grace: Duration,
     pub preview_scale: Option<u32>,
     /// Render again each time the scene file changes, until interrupted.

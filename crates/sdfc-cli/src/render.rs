@@ -43,12 +43,16 @@ pub struct Args {
     /// Read the scene's root union from a buffer, as instances in a hierarchy of boxes walked
     /// by one loop, instead of compiling each shape: for a union of many constant shapes
     /// (moved, turned, scaled, with materials), whose pipeline then builds in about a second
-    /// whatever its size. A scene without such a union is compiled as usual, with a note.
+    /// whatever its size. Done by default from 1 000 such shapes up (without --cull); this
+    /// asks for it from 16. A scene without such a union is compiled as usual, with a note.
     /// With --interpreted, the interpreter walks the union read as data (its bytecode no
-    /// longer grows with the shapes). With --live, the final frame's; the preview of such a
-    /// union is interpreted from data in any case
+    /// longer grows with the shapes; by default too, at any size). With --live, the final
+    /// frame's; the preview of such a union is interpreted from data in any case
     #[arg(long, conflicts_with = "cull")]
     instances: bool,
+    /// Compile the scene's root union as code at any size (see --instances)
+    #[arg(long, conflicts_with = "instances")]
+    no_instances: bool,
     /// A first picture as soon as possible: if the scene's specialised pipeline is not built
     /// within the grace period, the interpreted marcher draws a preview into OUT while it
     /// builds (on a CPU device only once the interpreter is warm, as in --watch after its
@@ -241,15 +245,26 @@ pub fn instances_note(normals: bool, instead: &str) -> String {
     )
 }
 
-/// A frame from the interpreted marcher; with `instances`, its root union read as data where
-/// it is a union of instances (`encode_as_data`), else as code with a note.
+/// `--instances`, `--no-instances` or neither; `--cull` asks for code.
+fn instances_mode(a: &Args) -> sdfc_wgsl::Instances {
+    match (a.instances, a.no_instances || a.cull) {
+        (true, _) => sdfc_wgsl::Instances::Always,
+        (_, true) => sdfc_wgsl::Instances::Never,
+        _ => sdfc_wgsl::Instances::Auto,
+    }
+}
+
+/// A frame from the interpreted marcher: its root union read as data where it is a union of
+/// instances (`encode_as_data`) unless `instances` is `Never` (by default at any size, as
+/// the live preview does: the bytecode then no longer grows with the shapes), else as code,
+/// with a note where data was asked for.
 fn interpreted(
     renderer: &Renderer,
     program: &Program,
-    instances: bool,
+    instances: sdfc_wgsl::Instances,
     opts: &RenderOptions,
 ) -> Result<sdfc_render::Frame, RenderError> {
-    if !instances {
+    if instances == sdfc_wgsl::Instances::Never {
         return renderer.render_interpreted(program, opts);
     }
     match sdfc_wgsl::interp::encode_instances::encode_as_data(program) {
@@ -258,10 +273,12 @@ fn interpreted(
             renderer.render_bytecode(program, &code, opts)
         }
         None => {
-            say!(
-                "{}",
-                instances_note(false, "the interpreter runs it as code")
-            );
+            if instances == sdfc_wgsl::Instances::Always {
+                say!(
+                    "{}",
+                    instances_note(false, "the interpreter runs it as code")
+                );
+            }
             renderer.render_interpreted(program, opts)
         }
     }
@@ -364,7 +381,7 @@ pub fn run(a: Args) -> Outcome {
             size: a.size,
             time: a.time,
             cull: a.cull,
-            instances: a.instances,
+            instances: instances_mode(&a),
             grace: std::time::Duration::from_millis(a.grace),
             preview_scale: a.preview_scale,
             watch: a.watch,
@@ -372,7 +389,7 @@ pub fn run(a: Args) -> Outcome {
     }
     let opts = sdfc_wgsl::Options {
         cull: a.cull,
-        instances: a.instances,
+        instances: instances_mode(&a),
         ..sdfc_wgsl::Options::default()
     };
     let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, &opts) {
@@ -381,6 +398,14 @@ pub fn run(a: Args) -> Outcome {
     };
     if a.instances && !a.interpreted && compiled.data.is_empty() {
         say!("{}", instances_note(true, "it is compiled as code"));
+    }
+    if instances_mode(&a) == sdfc_wgsl::Instances::Auto && !compiled.data.is_empty() {
+        // Said, because the picture's time and the flags that apply (`--cull`) change with it.
+        say!(
+            "sdfc: note: the scene's root is a union of {} or more constant shapes, so it is \
+             read as data, walked by one loop (--no-instances compiles it as code)",
+            sdfc_wgsl::AUTO_INSTANCES
+        );
     }
     let params = to_f32(&overrides);
     let opts = RenderOptions {
@@ -396,7 +421,7 @@ pub fn run(a: Args) -> Outcome {
                 "sdfc: note: the interpreted marcher has no gradient code; `normals: analytic` renders with `tetrahedron` there"
             );
         }
-        interpreted(&renderer, compiled.program(), a.instances, &opts)
+        interpreted(&renderer, compiled.program(), instances_mode(&a), &opts)
     } else {
         crate::slow_note::unless_quick(|| renderer.render(&compiled, &opts))
     };

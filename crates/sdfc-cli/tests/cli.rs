@@ -86,7 +86,7 @@ fn compile_instances_writes_the_wgsl_and_its_data() {
     validate(&wgsl);
     assert!(wgsl.contains("@group(0) @binding(3) var<storage, read> scene_data"));
     let opts = sdfc_wgsl::Options {
-        instances: true,
+        instances: sdfc_wgsl::Instances::Always,
         ..Default::default()
     };
     let library = sdfc_wgsl::compile(&grid_src, &opts).unwrap();

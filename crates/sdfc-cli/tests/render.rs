@@ -1088,7 +1088,8 @@ fn a_slow_render_says_why_and_what_to_do_instead() {
 /// `--instances`: a union of many constant shapes read from data draws the picture the code
 /// draws, in the specialised shader and in the interpreter (`--interpreted`); a scene
 /// without such a union is rendered as code, with a note saying why; it does not go with
-/// `--cull`.
+/// `--cull` or `--no-instances`, which draws the same picture from code. By default a union
+/// of `AUTO_INSTANCES` shapes is read as data, with a note.
 #[test]
 fn instances_render_the_same_picture_or_say_why_not() {
     if !have_device() {
@@ -1129,4 +1130,23 @@ fn instances_render_the_same_picture_or_say_why_not() {
         );
     }
     render_in(&t, &grid, &data, &[&["--instances", "--cull"]]).expect_code(2);
+    render_in(&t, &grid, &data, &[&["--instances", "--no-instances"]]).expect_code(2);
+    // `--no-instances`: the interpreter runs the union as code (by default it reads any
+    // union of instances as data), to the same picture.
+    let as_code = t.path("as_code.png");
+    let never = ["--no-instances", "--interpreted"];
+    render_in(&t, &grid, &as_code, &[size, &never]).expect_code(0);
+    assert!(
+        off(&as_code) <= 8,
+        "as code: {} channels differ",
+        off(&as_code)
+    );
+    // By default, a union of AUTO_INSTANCES shapes is read as data, and the user is told.
+    let big = t.write("big.sdf", sdfc_tests::grid_scene(sdfc_wgsl::AUTO_INSTANCES));
+    let run = render_in(&t, &big, &t.path("big.png"), &[&["--size", "16x12"]]).expect_code(0);
+    assert!(
+        run.stderr.contains("so it is read as data"),
+        "{}",
+        run.describe()
+    );
 }

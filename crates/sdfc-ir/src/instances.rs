@@ -68,6 +68,17 @@ pub struct Instances {
 /// [`MIN_CHILDREN`] or more instances: bounded primitives with constant arguments (the
 /// fractals' are compile-time settings of their code, so they are left out).
 pub fn find(scene: &Scene, analysis: &Analysis, origin: [f64; 3]) -> Option<Instances> {
+    find_at_least(scene, analysis, origin, MIN_CHILDREN)
+}
+
+/// [`find`] for a union of at least `min` children (never fewer than [`MIN_CHILDREN`]); a
+/// smaller union is refused before any instance is looked at.
+pub fn find_at_least(
+    scene: &Scene,
+    analysis: &Analysis,
+    origin: [f64; 3],
+    min: usize,
+) -> Option<Instances> {
     let mut memo = FxHashMap::default();
     let (root, outer) = peel(scene, scene.root, Frame::IDENTITY, &mut memo)?;
     let ShapeKind::Combine {
@@ -78,7 +89,7 @@ pub fn find(scene: &Scene, analysis: &Analysis, origin: [f64; 3]) -> Option<Inst
     else {
         return None;
     };
-    if children.len() < MIN_CHILDREN {
+    if children.len() < min.max(MIN_CHILDREN) {
         return None;
     }
     let mut templates: Vec<(Prim, Vec<Ty>)> = Vec::new();

@@ -16,7 +16,8 @@
 //! prints the preview's time as soon as it is drawn: NVIDIA's driver had not built the
 //! 5 000-shape union's pipeline after 236 s (docs/performance.md), so a run limited in time
 //! still learns the first pixel. `SDFC_BENCH_INSTANCES=1`: the specialised shader reads a
-//! large union as data (`--instances`). Mesa keeps built shaders in a disk cache:
+//! union of 16 or more instances as data (`--instances`); `=0`: never (`--no-instances`);
+//! unset: from 1 000 up, the default. Mesa keeps built shaders in a disk cache:
 //! `MESA_SHADER_CACHE_DISABLE=true` measures cold builds.
 
 use sdfc_render::{LiveOptions, RenderOptions, Renderer};
@@ -54,7 +55,11 @@ fn main() {
     // `SDFC_BENCH_CULL=1`: both paths with bounding-box early-outs (`--cull`).
     let emit = sdfc_wgsl::Options {
         cull: std::env::var("SDFC_BENCH_CULL").is_ok_and(|v| v == "1"),
-        instances: std::env::var("SDFC_BENCH_INSTANCES").is_ok_and(|v| v == "1"),
+        instances: match std::env::var("SDFC_BENCH_INSTANCES").as_deref() {
+            Ok("1") => sdfc_wgsl::Instances::Always,
+            Ok("0") => sdfc_wgsl::Instances::Never,
+            _ => sdfc_wgsl::Instances::Auto,
+        },
         ..Default::default()
     };
     let start = Instant::now();

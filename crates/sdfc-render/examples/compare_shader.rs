@@ -56,7 +56,7 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     let compiled = compile(&source)?;
     let other = if other == "instances" {
         let opts = sdfc_wgsl::Options {
-            instances: true,
+            instances: sdfc_wgsl::Instances::Always,
             ..sdfc_wgsl::Options::default()
         };
         let c = sdfc_wgsl::compile(&source, &opts).map_err(|_| "the scene does not compile")?;

@@ -32,7 +32,7 @@ fn close_grid(n: usize, offset: f64) -> String {
 
 fn with_instances(name: &str, src: &str) -> sdfc_wgsl::Compiled {
     let opts = Options {
-        instances: true,
+        instances: sdfc_wgsl::Instances::Always,
         ..Options::default()
     };
     let c = sdfc_wgsl::compile(src, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -187,7 +187,7 @@ fn a_grid_far_from_the_origin_as_data_draws_as_code_does() {
 #[test]
 fn a_scene_without_such_a_union_is_code() {
     let opts = Options {
-        instances: true,
+        instances: sdfc_wgsl::Instances::Always,
         ..Options::default()
     };
     let src = "scene = sphere(1) | box([1, 1, 1]).translate([2, 0, 0]);";

@@ -453,7 +453,7 @@ fn the_final_frame_can_read_the_union_as_data() {
     let source = sdfc_tests::grid_scene(40);
     let opts = RenderOptions::sized(40, 30);
     let emit = sdfc_wgsl::Options {
-        instances: true,
+        instances: sdfc_wgsl::Instances::Always,
         ..sdfc_wgsl::Options::default()
     };
     let data = sdfc_wgsl::compile(&source, &emit).unwrap();

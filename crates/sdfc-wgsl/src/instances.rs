@@ -6,7 +6,7 @@ use crate::consts::Consts;
 use crate::func::emit_template;
 use crate::literal;
 use sdfc_ir::func::Func;
-use sdfc_ir::instances::{find, Instances};
+use sdfc_ir::instances::{find_at_least, Instances, MIN_CHILDREN};
 use sdfc_ir::scene::{Material, Normals};
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
@@ -26,11 +26,16 @@ pub struct Plan {
 /// normals differentiate the distance function, and `scene_distance_ray` steps along rays
 /// through nodes the walk does not have.
 pub fn plan(p: &Program) -> Option<Plan> {
+    plan_at_least(p, MIN_CHILDREN)
+}
+
+/// [`plan`] for a union of at least `min` instances (the rule of `Instances::Auto`).
+pub fn plan_at_least(p: &Program, min: usize) -> Option<Plan> {
     let frame = p.marched();
     if p.scene.render.normals == Normals::Analytic || frame.distance_ray.is_some() {
         return None;
     }
-    plan_interpreted(p)
+    plan_found(p, min)
 }
 
 /// The plan for `p`'s interpreted form (`interp::encode::encode_instances`), or `None` where
@@ -38,9 +43,14 @@ pub fn plan(p: &Program) -> Option<Plan> {
 /// difference normals only (analytic normals fall back to the tetrahedron there), so only
 /// the union decides.
 pub fn plan_interpreted(p: &Program) -> Option<Plan> {
+    plan_found(p, MIN_CHILDREN)
+}
+
+/// The plan for a root union of at least `min` instances, whatever the shader.
+fn plan_found(p: &Program, min: usize) -> Option<Plan> {
     let frame = p.marched();
     // The program's own analysis of its scene: the instances' boxes, the kinds' functions.
-    let found = find(&p.scene, &p.analysis, frame.origin.map(f64::from))?;
+    let found = find_at_least(&p.scene, &p.analysis, frame.origin.map(f64::from), min)?;
     let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &p.analysis, &found.templates)
         .iter()
         .map(|f| sdfc_ir::passes::optimise(f).0)

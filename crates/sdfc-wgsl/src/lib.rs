@@ -48,7 +48,7 @@ mod options;
 pub mod parts;
 pub mod validate;
 
-pub use options::{check_import_path, Options};
+pub use options::{check_import_path, Instances, Options, AUTO_INSTANCES};
 /// The IR a compiled scene carries ([`Compiled::program`]), which the renderer's interpreted
 /// marcher and point evaluation take.
 pub use sdfc_ir::{Program, Stages};
@@ -324,7 +324,10 @@ pub fn emit_validated_with_data(
 
 /// [`emit_validated_with_data`] with options already checked.
 fn emit_with_data(program: &Program, opts: &Options) -> Result<(String, Vec<u8>), Failure> {
-    let plan = opts.instances.then(|| instances::plan(program)).flatten();
+    let plan = opts
+        .instances
+        .min_instances(opts)
+        .and_then(|min| instances::plan_at_least(program, min));
     let wgsl = emit_checked(program, opts, plan.as_ref())?;
     Ok((wgsl, plan.map_or_else(Vec::new, |p| p.data())))
 }

@@ -13,19 +13,52 @@ pub struct Options {
     /// same near the surface, and a lower bound far from every part of the union. Off by
     /// default until it is measured to win on a device (docs/performance.md).
     pub cull: bool,
-    /// A root union of many instances (a primitive with constant arguments under constant
-    /// moves, turns and uniform scales) emitted as data, walked by one loop over a hierarchy
-    /// of their boxes (`sdfc render --instances`): the shader then reads the buffer
-    /// [`crate::Compiled::data`] at binding 3. Ignored where the scene has no such union
-    /// (`sdfc_ir::instances`); only for the full shader. Off by default: on lavapipe it wins
-    /// from about a thousand shapes (docs/performance.md, "Large unions as data").
-    pub instances: bool,
+    /// When a root union of many instances (a primitive with constant arguments under
+    /// constant moves, turns and uniform scales) is emitted as data, walked by one loop over
+    /// a hierarchy of their boxes (`sdfc render --instances`): the shader then reads the
+    /// buffer [`crate::Compiled::data`] at binding 3. Never where the scene has no such
+    /// union (`sdfc_ir::instances`); only for the full shader. By default from
+    /// [`AUTO_INSTANCES`] instances up ([`Instances::Auto`]).
+    pub instances: Instances,
+}
+
+/// When a root union of instances is emitted as data ([`Options::instances`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Instances {
+    /// Where the union has [`AUTO_INSTANCES`] or more instances, the full shader is emitted
+    /// and `cull` is not asked for.
+    #[default]
+    Auto,
+    /// Wherever the root is a union of instances (`sdfc_ir::instances::MIN_CHILDREN` or
+    /// more): `sdfc render --instances`. Not with `lib`.
+    Always,
+    /// Never: the union stays code (`sdfc render --no-instances`).
+    Never,
+}
+
+/// The size from which [`Instances::Auto`] reads a union as data. On lavapipe the walk ran a
+/// 1 000-shape grid 1.18x faster than its code from close by and built its pipeline in under
+/// a second against 4 to 5 s (the 300-shape grid: 0.43x from close by, 1.26x from afar);
+/// code's build time grows with the shapes on every driver measured (the H200's took 3.4 s
+/// for 300 shapes, more than four minutes for 5 000). docs/performance.md, "Large unions as
+/// data" and "Data by default".
+pub const AUTO_INSTANCES: usize = 1000;
+
+impl Instances {
+    /// The fewest instances read as data under these options, or `None` for code.
+    pub fn min_instances(self, opts: &Options) -> Option<usize> {
+        match self {
+            Instances::Always => Some(sdfc_ir::instances::MIN_CHILDREN),
+            Instances::Auto if !opts.lib && !opts.cull => Some(AUTO_INSTANCES),
+            Instances::Auto | Instances::Never => None,
+        }
+    }
 }
 
 impl Options {
     /// Whether the options make sense together; the reason, if not.
     pub fn check(&self) -> Result<(), String> {
-        if self.instances && self.lib {
+        if self.instances == Instances::Always && self.lib {
             return Err(
                 "instances are emitted as data for the full shader: the library form has no buffer to read them from"
                     .into(),

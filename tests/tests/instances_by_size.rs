@@ -1,0 +1,77 @@
+//! The default rule for large unions (`Instances::Auto`): a root union of
+//! `AUTO_INSTANCES` or more instances is emitted as data, a smaller one as code, and
+//! the options that ask for code (`Never`, `cull`, `lib`) get code.
+
+use sdfc_tests::grid_scene;
+use sdfc_wgsl::{compile, Compiled, Failure, Instances, Options, AUTO_INSTANCES};
+
+fn compiled(n: usize, opts: &Options) -> Compiled {
+    compile(&grid_scene(n), opts).unwrap_or_else(|f| panic!("grid of {n}: {f}"))
+}
+
+/// Whether the union was emitted as data: the buffer exists and the WGSL reads it.
+fn as_data(c: &Compiled) -> bool {
+    let reads = c.wgsl.contains("scene_data");
+    assert_eq!(reads, !c.data.is_empty(), "the WGSL and its data disagree");
+    reads
+}
+
+#[test]
+fn by_default_a_union_is_data_from_the_threshold_up() {
+    let below = compiled(AUTO_INSTANCES - 1, &Options::default());
+    assert!(
+        !as_data(&below),
+        "{} instances emitted as data",
+        AUTO_INSTANCES - 1
+    );
+    let at = compiled(AUTO_INSTANCES, &Options::default());
+    assert!(as_data(&at), "{AUTO_INSTANCES} instances emitted as code");
+    // Every instance has a record of at least three vec4 (48 bytes), and the WGSL no longer
+    // holds one block per shape: it is smaller than the code form of the smaller grid.
+    assert!(
+        at.data.len() >= AUTO_INSTANCES * 48,
+        "{} bytes",
+        at.data.len()
+    );
+    assert!(at.wgsl.len() * 4 < below.wgsl.len());
+    // Asked for, a union of any size from 16 up is data.
+    let always = Options {
+        instances: Instances::Always,
+        ..Options::default()
+    };
+    assert!(as_data(&compiled(20, &always)));
+}
+
+#[test]
+fn code_where_asked_for() {
+    let n = AUTO_INSTANCES;
+    let never = Options {
+        instances: Instances::Never,
+        ..Options::default()
+    };
+    assert!(!as_data(&compiled(n, &never)), "Never");
+    // Culling is a form of the union's code: asking for it keeps the code.
+    let cull = Options {
+        cull: true,
+        ..Options::default()
+    };
+    let culled = compiled(n, &cull);
+    assert!(
+        !as_data(&culled) && !culled.program().groups.is_empty(),
+        "cull"
+    );
+    // The library form has no buffer: by default it is code, and data is refused.
+    let lib = Options {
+        lib: true,
+        ..Options::default()
+    };
+    assert!(!as_data(&compiled(n, &lib)), "lib");
+    let refused = compile(
+        &grid_scene(n),
+        &Options {
+            instances: Instances::Always,
+            ..lib
+        },
+    );
+    assert!(matches!(refused, Err(Failure::Usage(_))), "lib with Always");
+}

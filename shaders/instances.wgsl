@@ -37,13 +37,18 @@ fn instance_distance(p: vec3<f32>, leaf: u32) -> f32 {
 // walk (or on the hint): every instance contributes its distance, or the box distance of the
 // node it lies under where the point is beyond that node's reach, and a skipped subtree
 // contributes at least the best distance when it was skipped, which is never below the end
-// result. Near every surface that is the union's exact distance.
-fn scene_nearest(p: vec3<f32>) -> Nearest {
-    var d = 3.0e38;
+// result. Near every surface that is the union's exact distance. `below` is a distance the
+// caller already has (a mixed union's other children's, else 3e38): the walk starts from it,
+// and the leaf word is 0 where no instance is nearer.
+fn scene_nearest(p: vec3<f32>, below: f32) -> Nearest {
+    var d = below;
     var nearest = 0u;
     if scene_hint != 0u {
-        d = instance_distance(p, scene_hint);
-        nearest = scene_hint;
+        let dh = instance_distance(p, scene_hint);
+        if dh < d {
+            d = dh;
+            nearest = scene_hint;
+        }
     }
     // The root's skip link: the number of nodes.
     let end = scene_data[0].w;
@@ -81,19 +86,4 @@ fn scene_nearest(p: vec3<f32>) -> Nearest {
         scene_hint = nearest;
     }
     return Nearest(d, nearest);
-}
-
-// The signed distance from p to the scene (the march loop calls only this).
-fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_nearest(p).distance;
-}
-
-// The material at a surface point p: the nearest instance's (called once per hit).
-fn scene_material(p: vec3<f32>) -> SceneMaterial {
-    let leaf = scene_nearest(p).leaf;
-    var material = 0u;
-    if leaf != 0u {
-        material = scene_data[leaf + 1u].y;
-    }
-    return material_by_index(material);
 }

@@ -306,6 +306,14 @@ fn every_emitted_shader_passes_tint() {
         forms(&stem, &source, &mut shaders);
     }
     forms("grid_300", &sdfc_tests::grid_scene(300), &mut shaders);
+    // A mixed union: a floor whose height is a param beside the grid's instances, emitted as
+    // code beside the walk in the instances form (`rest_distance`).
+    let floor = sdfc_tests::grid_scene(300).replacen(
+        "scene = union(\n",
+        "param floor = 0.8;\nscene = union(\n    plane([0, 1, 0], floor),\n",
+        1,
+    );
+    forms("grid_300_floor", &floor, &mut shaders);
     for unroll in [1, interp::CPU_UNROLL] {
         for (name, variant) in [
             ("", interp::Variant::Code),

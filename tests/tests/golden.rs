@@ -381,4 +381,25 @@ fn instances_union_wgsl() {
     // Without the option, the same scene is code.
     let code = compile("instances_union", &src, &Options::default());
     assert!(code.data.is_empty() && !code.wgsl.contains("scene_data"));
+    // With a floor whose height is a param, and a shell: a mixed union, those two emitted
+    // as code beside the walk (`rest_distance`, `rest_material`), the param read from the
+    // frame. The other children's functions and the scene functions are reviewed as text.
+    let mixed = src.replace(
+        "scene = union(\n",
+        "param floor = 1;\nscene = union(\n    plane([0, 1, 0], floor),\n    sphere(0.5).onion(0.05),\n",
+    );
+    let c = compile("instances_mixed", &mixed, &opts);
+    assert_eq!(c.data.len(), 32 * 39 + 10 * 48 + 10 * 64, "the same instances");
+    assert!(c.wgsl.contains("scene_params = frame.params;"));
+    let cut = |from: &str, to: &str| {
+        let start = c.wgsl.find(from).expect(from);
+        let start = c.wgsl[..start].rfind("\n\n").expect("its comment") + 2;
+        let last = c.wgsl.find(to).expect(to);
+        let end = last + c.wgsl[last..].find("\n}\n").expect("its end") + 3;
+        c.wgsl[start..end].to_string()
+    };
+    let text = cut("fn rest_distance(", "fn rest_material(")
+        + "\n"
+        + &cut("fn scene_distance(", "fn scene_material(");
+    insta::assert_snapshot!("instances_mixed.wgsl", text);
 }

@@ -44,7 +44,8 @@ pub struct Args {
     /// by one loop, instead of compiling each shape: for a union of many constant shapes
     /// (moved, turned, scaled, with materials), whose pipeline then builds in about a second
     /// whatever its size. Done by default from 1 000 such shapes up (without --cull); this
-    /// asks for it from 16. A scene without such a union is compiled as usual, with a note.
+    /// asks for it from 16. The union's other children (a floor, a fractal) stay code beside
+    /// the walk. A scene without such a union is compiled as usual, with a note.
     /// With --interpreted, the interpreter walks the union read as data (its bytecode no
     /// longer grows with the shapes; by default too, at any size). With --live, the final
     /// frame's; the preview of such a union is interpreted from data in any case
@@ -230,18 +231,19 @@ fn named(opened: Result<Renderer, RenderError>) -> Result<Renderer, Outcome> {
 }
 
 /// Why `--instances` changed nothing, then what was done instead. The specialised shader
-/// also keeps the union as code where the scene uses analytic normals; the interpreter has
-/// none (`normals`).
+/// (`normals`) reads a union with other children too (they stay code beside the walk), and
+/// keeps the union as code where the scene uses analytic normals; the interpreter reads only
+/// a union of such shapes alone, and has no analytic normals.
 pub fn instances_note(normals: bool, instead: &str) -> String {
-    let analytic = if normals {
-        ", or the scene uses analytic normals"
+    let (which, analytic) = if normals {
+        ("holding", ", or the scene uses analytic normals")
     } else {
-        ""
+        ("of nothing but", "")
     };
     format!(
-        "sdfc: note: --instances: the scene's root is not a hard union of 16 or more constant \
-         shapes (each a primitive, moved, turned or scaled by constants, with a material){analytic}; \
-         {instead}"
+        "sdfc: note: --instances: the scene's root is not a hard union {which} 16 or more \
+         constant shapes (each a primitive, moved, turned or scaled by constants, with a \
+         material){analytic}; {instead}"
     )
 }
 
@@ -402,8 +404,8 @@ pub fn run(a: Args) -> Outcome {
     if instances_mode(&a) == sdfc_wgsl::Instances::Auto && !compiled.data.is_empty() {
         // Said, because the picture's time and the flags that apply (`--cull`) change with it.
         say!(
-            "sdfc: note: the scene's root is a union of {} or more constant shapes, so it is \
-             read as data, walked by one loop (--no-instances compiles it as code)",
+            "sdfc: note: the scene's root union holds {} or more constant shapes, so they \
+             are read as data, walked by one loop (--no-instances compiles them as code)",
             sdfc_wgsl::AUTO_INSTANCES
         );
     }

@@ -1145,7 +1145,7 @@ fn instances_render_the_same_picture_or_say_why_not() {
     let big = t.write("big.sdf", sdfc_tests::grid_scene(sdfc_wgsl::AUTO_INSTANCES));
     let run = render_in(&t, &big, &t.path("big.png"), &[&["--size", "16x12"]]).expect_code(0);
     assert!(
-        run.stderr.contains("so it is read as data"),
+        run.stderr.contains("so they are read as data"),
         "{}",
         run.describe()
     );

@@ -12,6 +12,7 @@ use crate::passes::fold::const_value_in;
 use crate::scene::Scene;
 use crate::shape::{CombineOp, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
+use crate::func::Func;
 use crate::value::Value;
 
 /// Unions of fewer children are left as code: the walk would not pay for itself.
@@ -59,6 +60,10 @@ pub struct Instances {
     pub items: Vec<Instance>,
     /// The hierarchy, one leaf per instance: the root first.
     pub nodes: Vec<Node>,
+    /// The union's shape, and its children that are not instances (only from
+    /// [`find_mixed`]): code, evaluated beside the walk.
+    pub union: ShapeId,
+    pub rest: Vec<ShapeId>,
 }
 
 /// The root union of `scene` (whose `analysis` gives the boxes) as instances, in
@@ -79,6 +84,29 @@ pub fn find_at_least(
     origin: [f64; 3],
     min: usize,
 ) -> Option<Instances> {
+    find_in(scene, analysis, origin, min, false)
+}
+
+/// [`find_at_least`], where the union may also hold other children (a floor plane, a
+/// fractal, a smooth blend): `min` or more of its children must be instances, and the others
+/// are [`Instances::rest`], to be evaluated as code beside the walk.
+pub fn find_mixed(
+    scene: &Scene,
+    analysis: &Analysis,
+    origin: [f64; 3],
+    min: usize,
+) -> Option<Instances> {
+    find_in(scene, analysis, origin, min, true)
+}
+
+fn find_in(
+    scene: &Scene,
+    analysis: &Analysis,
+    origin: [f64; 3],
+    min: usize,
+    mixed: bool,
+) -> Option<Instances> {
+    let min = min.max(MIN_CHILDREN);
     let mut memo = FxHashMap::default();
     let (root, outer) = peel(scene, scene.root, Frame::IDENTITY, &mut memo)?;
     let ShapeKind::Combine {
@@ -89,43 +117,32 @@ pub fn find_at_least(
     else {
         return None;
     };
-    if children.len() < min.max(MIN_CHILDREN) {
+    if children.len() < min {
         return None;
     }
     let mut templates: Vec<(Prim, Vec<Ty>)> = Vec::new();
     let mut items = Vec::with_capacity(children.len());
+    let mut rest = Vec::new();
     for &child in children {
-        let (prim_shape, f) = peel(scene, child, outer.clone(), &mut memo)?;
-        let ShapeKind::Prim { prim, args } = &scene.shape(prim_shape).kind else {
-            return None;
-        };
-        if matches!(
-            prim,
-            Prim::Plane
-                | Prim::InfiniteCylinder
-                | Prim::Mandelbulb
-                | Prim::Menger
-                | Prim::Sierpinski
-        ) {
-            return None;
-        }
-        let mut values = Vec::with_capacity(args.len());
-        for a in args {
-            // Scalars and vec3s: what the emitted kinds read from the data.
-            match const_value_in(&scene.values, *a, &mut memo)? {
-                v @ (Value::F(_) | Value::V3(_)) => values.push(v),
-                _ => return None,
+        let found = instance(scene, analysis, root, child, &outer, &mut memo);
+        let Some((prim, values, f, b)) = found else {
+            if !mixed {
+                return None;
             }
-        }
-        if !(f.s.is_finite() && f.s > 0.0) {
-            return None;
-        }
-        // Turns only (a mirror or a shear has no quaternion): m p + o = m (p - c) with
-        // c = -m^-1 o.
-        let q = quaternion(&f.m)?;
-        let inv = inverse(&f.m)?;
+            rest.push(child);
+            continue;
+        };
+        // Turns only (a mirror or a shear has no quaternion, and is left to the rest): m p +
+        // o = m (p - c) with c = -m^-1 o.
+        let (Some(q), Some(inv)) = (quaternion(&f.m), inverse(&f.m)) else {
+            if !mixed {
+                return None;
+            }
+            rest.push(child);
+            continue;
+        };
         let c = mat_vec(&inv, &f.o).map(|x| -x);
-        let key = (*prim, values.iter().map(|v| v.ty()).collect());
+        let key = (prim, values.iter().map(|v| v.ty()).collect());
         let template = match templates.iter().position(|k| *k == key) {
             Some(i) => i as u32,
             None => {
@@ -133,16 +150,6 @@ pub fn find_at_least(
                 (templates.len() - 1) as u32
             }
         };
-        // The child's box from the analysis where the union is the root; under the root's
-        // own maps, the primitive's box seen through the instance's whole frame.
-        let b = if root == scene.root {
-            analysis.nodes[child.index()].bounds
-        } else {
-            transformed_box(&analysis.nodes[prim_shape.index()].bounds, &f)?
-        };
-        if !b.lo.iter().chain(&b.hi).all(|x| x.is_finite()) {
-            return None;
-        }
         items.push(Instance {
             template,
             args: values,
@@ -154,12 +161,61 @@ pub fn find_at_least(
             hi: [0, 1, 2].map(|a| b.hi[a] - origin[a]),
         });
     }
+    if items.len() < min {
+        return None;
+    }
     let nodes = hierarchy(&items);
     Some(Instances {
         templates,
         items,
         nodes,
+        union: root,
+        rest,
     })
+}
+
+/// One child of the union as an instance: its primitive, constant arguments, frame and box;
+/// `None` where it is not one.
+fn instance(
+    scene: &Scene,
+    analysis: &Analysis,
+    root: ShapeId,
+    child: ShapeId,
+    outer: &Frame,
+    memo: &mut FxHashMap<crate::graph::NodeId, Option<Value<f64>>>,
+) -> Option<(Prim, Vec<Value<f64>>, Frame, Aabb)> {
+    let (prim_shape, f) = peel(scene, child, outer.clone(), memo)?;
+    let ShapeKind::Prim { prim, args } = &scene.shape(prim_shape).kind else {
+        return None;
+    };
+    if matches!(
+        prim,
+        Prim::Plane | Prim::InfiniteCylinder | Prim::Mandelbulb | Prim::Menger | Prim::Sierpinski
+    ) {
+        return None;
+    }
+    let mut values = Vec::with_capacity(args.len());
+    for a in args {
+        // Scalars and vec3s: what the emitted kinds read from the data.
+        match const_value_in(&scene.values, *a, memo)? {
+            v @ (Value::F(_) | Value::V3(_)) => values.push(v),
+            _ => return None,
+        }
+    }
+    if !(f.s.is_finite() && f.s > 0.0) {
+        return None;
+    }
+    // The child's box from the analysis where the union is the root; under the root's own
+    // maps, the primitive's box seen through the instance's whole frame.
+    let b = if root == scene.root {
+        analysis.nodes[child.index()].bounds
+    } else {
+        transformed_box(&analysis.nodes[prim_shape.index()].bounds, &f)?
+    };
+    if !b.lo.iter().chain(&b.hi).all(|x| x.is_finite()) {
+        return None;
+    }
+    Some((*prim, values, f, b))
 }
 
 /// The frame a shape is evaluated in: `local = (m p + o) / s`, the distance times `s`; and
@@ -455,4 +511,44 @@ mod tests {
         }
         assert!(inverse(&[[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]).is_none());
     }
+}
+
+/// The code of a mixed union's other children ([`Instances::rest`]): `rest_distance`,
+/// `rest_material` and the groups they call.
+#[derive(Clone, Debug)]
+pub struct Rest {
+    pub distance: Func,
+    pub material: Func,
+    pub groups: Vec<Func>,
+}
+
+/// The functions of `found`'s other children, or `None` where it has none: `scene` with the
+/// union cut down to them, built and optimised as a program's own functions are, and moved
+/// to be seen from `relative` where the program marches in coordinates relative to it (the
+/// instances' records are, too). The union's analysis is left as it was: its box holds the
+/// cut union's, which is all the marcher asks of it.
+pub fn rest_functions(scene: &Scene, found: &Instances, relative: Option<[f32; 3]>) -> Option<Rest> {
+    if found.rest.is_empty() {
+        return None;
+    }
+    let mut cut = scene.clone();
+    cut.shapes[found.union.index()].kind = ShapeKind::Combine {
+        op: CombineOp::Union,
+        smooth: None,
+        children: found.rest.clone(),
+    };
+    if let Some(origin) = relative {
+        cut = crate::passes::relative::shift(&cut, origin);
+    }
+    let cut = crate::passes::merge::run(&cut);
+    let funcs = crate::to_ssa::functions(&cut, false);
+    let opt = |f: &Func, name: &str| Func {
+        name: name.into(),
+        ..crate::passes::optimise(f).0
+    };
+    Some(Rest {
+        distance: opt(&funcs.distance, "rest_distance"),
+        material: opt(&funcs.material, "rest_material"),
+        groups: funcs.groups.iter().map(|g| opt(g, &g.name)).collect(),
+    })
 }

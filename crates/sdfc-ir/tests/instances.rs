@@ -163,3 +163,71 @@ fn instances_are_found_relative_to_an_origin() {
         }
     }
 }
+
+/// A union with other children beside its instances (a floor, a shell, a child with a
+/// param) is found by `find_mixed` with those children as its rest, and the rest's
+/// functions plus the instances give the union's distance and material.
+#[test]
+fn a_mixed_union_keeps_its_other_children_as_code() {
+    use sdfc_ir::instances::{find_mixed, rest_functions, MIN_CHILDREN};
+    let src = format!(
+        "param r = 0.4;\n{}",
+        union(20)
+            .replacen("sphere(0.4)", "plane([0, 1, 0], 2)", 1)
+            .replacen("sphere(0.4)", "sphere(r)", 1)
+            .replacen("sphere(0.4)", "sphere(0.4).onion(0.05)", 1)
+    );
+    let p = program(&src);
+    assert!(find(&p.scene, &p.analysis, [0.0; 3]).is_none(), "strict");
+    let f = find_mixed(&p.scene, &p.analysis, [0.0; 3], MIN_CHILDREN).expect("mixed");
+    assert_eq!((f.items.len(), f.rest.len()), (17, 3));
+    // Fewer instances than asked for: none.
+    assert!(find_mixed(&p.scene, &p.analysis, [0.0; 3], 18).is_none());
+    let rest = rest_functions(&p.scene, &f, None).expect("a rest");
+    assert_eq!(rest.distance.name, "rest_distance");
+    let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &p.analysis, &f.templates);
+    let scalar = |v: &Value<f64>| match v {
+        Value::F(d) => *d,
+        v => panic!("{v:?}"),
+    };
+    let mut rest_nearest = 0;
+    for k in 0..400 {
+        let t = k as f64;
+        let q = [
+            -1.0 + 9.0 * (t * 0.618).fract(),
+            -2.5 + 5.0 * (t * 0.414).fract(),
+            -3.5 + 5.0 * (t * 0.732).fract(),
+        ];
+        // The param at its default.
+        let at = Inputs {
+            params: vec![Value::F(0.4)],
+            ..Inputs::at(q)
+        };
+        let want = scalar(&eval_func(&p.distance, &p.groups, &at)[0]);
+        let r = scalar(&eval_func(&rest.distance, &rest.groups, &at)[0]);
+        let walk = f
+            .items
+            .iter()
+            .map(|it| {
+                let v = turn(it.q, [0, 1, 2].map(|a| q[a] - it.centre[a]));
+                let local = v.map(|x| x / it.scale);
+                let args = Inputs {
+                    params: it.args.clone(),
+                    ..Inputs::at(local)
+                };
+                scalar(&eval_func(&templates[it.template as usize], &[], &args)[0]) * it.scale
+            })
+            .fold(f64::INFINITY, f64::min);
+        let got = r.min(walk);
+        // The program's constants are f32, the instances' frames f64 (as above).
+        let off = (got - want).abs() / want.abs().max(1.0);
+        assert!(off < 1e-6, "at {q:?}: {got} against {want}");
+        if r < walk {
+            rest_nearest += 1;
+            // Where the rest is nearer, its material is the scene's.
+            let m = eval_func(&p.material, &p.groups, &at);
+            assert_eq!(m, eval_func(&rest.material, &rest.groups, &at), "at {q:?}");
+        }
+    }
+    assert!(rest_nearest > 40, "the rest nearest at {rest_nearest} points");
+}

@@ -29,8 +29,14 @@ fn close_grid(n: usize) -> Result<String, Error> {
     Ok(scene.replace(FAR, CLOSE))
 }
 
+/// The scene's own shader, its union as code at any size (by default a union of 1 000 or
+/// more instances would be data, the form compared against).
 fn compile(source: &str) -> Result<sdfc_wgsl::Compiled, Error> {
-    sdfc_wgsl::compile(source, &sdfc_wgsl::Options::default())
+    let code = sdfc_wgsl::Options {
+        instances: sdfc_wgsl::Instances::Never,
+        ..sdfc_wgsl::Options::default()
+    };
+    sdfc_wgsl::compile(source, &code)
         .map_err(|_| "the scene does not compile".into())
 }
 

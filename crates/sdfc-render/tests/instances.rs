@@ -1,7 +1,7 @@
 //! A union emitted as data (`sdfc_wgsl::Options::instances`, `sdfc render --instances`, and
 //! the interpreter's walk, `encode_as_data`): the same picture as the union emitted as code,
 //! against the f64 reference as well, near the origin and 1e5 away from it (the
-//! camera-relative frame).
+//! camera-relative frame); a mixed union (instances and other children) too.
 
 mod common;
 
@@ -93,6 +93,11 @@ fn check(name: &str, src: &str) {
     let (code_frame, c) = against(r, Form::Specialised(&code), &reference);
     let (data_frame, d) = against(r, Form::Specialised(&data), &reference);
     check_against(name, (&data_frame, &d), (&code_frame, &c));
+    if data.wgsl.contains("fn rest_distance(") {
+        // A mixed union: the interpreter walks only unions of instances alone.
+        assert!(encode_as_data(code.program()).is_none(), "{name}");
+        return;
+    }
     let interpreted = against(r, Form::Interpreted(code.program()), &reference);
     let name = format!("{name}, interpreted");
     check_against(&name, (&interpreted.0, &interpreted.1), (&code_frame, &c));
@@ -181,6 +186,31 @@ fn a_grid_of_120_shapes_as_data_draws_as_code_does() {
 #[test]
 fn a_grid_far_from_the_origin_as_data_draws_as_code_does() {
     check("grid_120 at 1e5", &close_grid(120, 1e5));
+}
+
+/// The grid with a floor and a shell among its shapes: a mixed union, whose other children
+/// stay code beside the walk (`rest_distance`), near the origin and 1e5 from it.
+fn mixed_grid(offset: f64) -> String {
+    let src = close_grid(120, offset);
+    let head = "scene = translate(union(\n";
+    assert!(src.contains(head));
+    src.replace(
+        head,
+        &format!(
+            "{head}    plane([0, 1, 0], 0.8).material(green),\n    \
+             sphere(0.6).onion(0.05).translate([-2, 2.5, 1]),\n"
+        ),
+    )
+}
+
+#[test]
+fn a_mixed_union_as_data_draws_as_code_does() {
+    for (name, offset) in [("mixed grid_120", 0.0), ("mixed grid_120 at 1e5", 1e5)] {
+        let src = mixed_grid(offset);
+        let c = with_instances(name, &src);
+        assert!(c.wgsl.contains("fn rest_distance("), "{name}: not mixed");
+        check(name, &src);
+    }
 }
 
 /// The option changes nothing where the root is not a union of instances.

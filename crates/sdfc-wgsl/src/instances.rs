@@ -6,19 +6,25 @@ use crate::consts::Consts;
 use crate::func::emit_template;
 use crate::literal;
 use sdfc_ir::func::Func;
-use sdfc_ir::instances::{find_at_least, Instances, MIN_CHILDREN};
+use sdfc_ir::instances::{find_at_least, find_mixed, rest_functions, Instances, Rest, MIN_CHILDREN};
 use sdfc_ir::scene::{Material, Normals};
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
 use std::fmt::Write;
 
-/// The walk, `scene_distance` and `scene_material` over the data.
+/// The walk over the data.
 const WALK: &str = include_str!("../../../shaders/instances.wgsl");
+/// `scene_distance` and `scene_material` over a union of instances alone.
+const ENDS: &str = include_str!("../../../shaders/instances_ends.wgsl");
+/// The same over a mixed union: the walk beside the other children's code.
+const ENDS_MIXED: &str = include_str!("../../../shaders/instances_mixed.wgsl");
 
-/// A program's root union as data: what was found, and its kinds' distance functions.
+/// A program's root union as data: what was found, its kinds' distance functions, and the
+/// code of its other children where it is mixed (`sdfc_ir::instances::find_mixed`).
 pub struct Plan {
     pub found: Instances,
     pub templates: Vec<Func>,
+    pub rest: Option<Rest>,
 }
 
 /// The plan for `p`'s render shader, or `None` where its root is not a union of instances
@@ -29,13 +35,18 @@ pub fn plan(p: &Program) -> Option<Plan> {
     plan_at_least(p, MIN_CHILDREN)
 }
 
-/// [`plan`] for a union of at least `min` instances (the rule of `Instances::Auto`).
+/// [`plan`] for a union of at least `min` instances (the rule of `Instances::Auto`). The
+/// union may hold other children too (a floor, a fractal): they stay code, evaluated beside
+/// the walk.
 pub fn plan_at_least(p: &Program, min: usize) -> Option<Plan> {
     let frame = p.marched();
     if p.scene.render.normals == Normals::Analytic || frame.distance_ray.is_some() {
         return None;
     }
-    plan_found(p, min)
+    let found = find_mixed(&p.scene, &p.analysis, frame.origin.map(f64::from), min)?;
+    let relative = p.relative.as_ref().map(|r| r.origin);
+    let rest = rest_functions(&p.scene, &found, relative);
+    Some(with_templates(p, found, rest))
 }
 
 /// The plan for `p`'s interpreted form (`interp::encode::encode_instances`), or `None` where
@@ -43,19 +54,28 @@ pub fn plan_at_least(p: &Program, min: usize) -> Option<Plan> {
 /// difference normals only (analytic normals fall back to the tetrahedron there), so only
 /// the union decides.
 pub fn plan_interpreted(p: &Program) -> Option<Plan> {
-    plan_found(p, MIN_CHILDREN)
-}
-
-/// The plan for a root union of at least `min` instances, whatever the shader.
-fn plan_found(p: &Program, min: usize) -> Option<Plan> {
     let frame = p.marched();
     // The program's own analysis of its scene: the instances' boxes, the kinds' functions.
-    let found = find_at_least(&p.scene, &p.analysis, frame.origin.map(f64::from), min)?;
+    let found = find_at_least(
+        &p.scene,
+        &p.analysis,
+        frame.origin.map(f64::from),
+        MIN_CHILDREN,
+    )?;
+    Some(with_templates(p, found, None))
+}
+
+/// The plan of a union found in `p`: its kinds' distance functions built.
+fn with_templates(p: &Program, found: Instances, rest: Option<Rest>) -> Plan {
     let templates = sdfc_ir::to_ssa::template_functions(&p.scene, &p.analysis, &found.templates)
         .iter()
         .map(|f| sdfc_ir::passes::optimise(f).0)
         .collect();
-    Some(Plan { found, templates })
+    Plan {
+        found,
+        templates,
+        rest,
+    }
 }
 
 /// Words of an instance's record before its arguments: quaternion, centre and scale, kind
@@ -181,6 +201,8 @@ impl Plan {
         }
         s += "    }\n}\n\n";
         s += WALK;
+        s += "\n";
+        s += if self.rest.is_some() { ENDS_MIXED } else { ENDS };
         s
     }
 }

@@ -389,7 +389,11 @@ fn instances_union_wgsl() {
         "param floor = 1;\nscene = union(\n    plane([0, 1, 0], floor),\n    sphere(0.5).onion(0.05),\n",
     );
     let c = compile("instances_mixed", &mixed, &opts);
-    assert_eq!(c.data.len(), 32 * 39 + 10 * 48 + 10 * 64, "the same instances");
+    assert_eq!(
+        c.data.len(),
+        32 * 39 + 10 * 48 + 10 * 64,
+        "the same instances"
+    );
     assert!(c.wgsl.contains("scene_params = frame.params;"));
     let cut = |from: &str, to: &str| {
         let start = c.wgsl.find(from).expect(from);

@@ -7,12 +7,12 @@
 
 use crate::analysis::bounds::Aabb;
 use crate::analysis::Analysis;
+use crate::func::Func;
 use crate::hash::FxHashMap;
 use crate::passes::fold::const_value_in;
 use crate::scene::Scene;
 use crate::shape::{CombineOp, PointMap, Prim, ShapeId, ShapeKind};
 use crate::types::Ty;
-use crate::func::Func;
 use crate::value::Value;
 
 /// Unions of fewer children are left as code: the walk would not pay for itself.
@@ -527,7 +527,11 @@ pub struct Rest {
 /// to be seen from `relative` where the program marches in coordinates relative to it (the
 /// instances' records are, too). The union's analysis is left as it was: its box holds the
 /// cut union's, which is all the marcher asks of it.
-pub fn rest_functions(scene: &Scene, found: &Instances, relative: Option<[f32; 3]>) -> Option<Rest> {
+pub fn rest_functions(
+    scene: &Scene,
+    found: &Instances,
+    relative: Option<[f32; 3]>,
+) -> Option<Rest> {
     if found.rest.is_empty() {
         return None;
     }

@@ -229,5 +229,8 @@ fn a_mixed_union_keeps_its_other_children_as_code() {
             assert_eq!(m, eval_func(&rest.material, &rest.groups, &at), "at {q:?}");
         }
     }
-    assert!(rest_nearest > 40, "the rest nearest at {rest_nearest} points");
+    assert!(
+        rest_nearest > 40,
+        "the rest nearest at {rest_nearest} points"
+    );
 }

@@ -36,8 +36,7 @@ fn compile(source: &str) -> Result<sdfc_wgsl::Compiled, Error> {
         instances: sdfc_wgsl::Instances::Never,
         ..sdfc_wgsl::Options::default()
     };
-    sdfc_wgsl::compile(source, &code)
-        .map_err(|_| "the scene does not compile".into())
+    sdfc_wgsl::compile(source, &code).map_err(|_| "the scene does not compile".into())
 }
 
 fn emit(n: usize, dir: &str) -> Result<(), Error> {

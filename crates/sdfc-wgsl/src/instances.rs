@@ -6,7 +6,9 @@ use crate::consts::Consts;
 use crate::func::emit_template;
 use crate::literal;
 use sdfc_ir::func::Func;
-use sdfc_ir::instances::{find_at_least, find_mixed, rest_functions, Instances, Rest, MIN_CHILDREN};
+use sdfc_ir::instances::{
+    find_at_least, find_mixed, rest_functions, Instances, Rest, MIN_CHILDREN,
+};
 use sdfc_ir::scene::{Material, Normals};
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
@@ -202,7 +204,11 @@ impl Plan {
         s += "    }\n}\n\n";
         s += WALK;
         s += "\n";
-        s += if self.rest.is_some() { ENDS_MIXED } else { ENDS };
+        s += if self.rest.is_some() {
+            ENDS_MIXED
+        } else {
+            ENDS
+        };
         s
     }
 }

@@ -59,7 +59,11 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
     };
     let uses_time = funcs.iter().any(|f| uses(f, |o| *o == Op::Time));
     // A template's params are its instance's arguments, not the scene's.
-    let scene_funcs = if instances.is_some() { &rest_funcs } else { &funcs };
+    let scene_funcs = if instances.is_some() {
+        &rest_funcs
+    } else {
+        &funcs
+    };
     let uses_params = scene_funcs
         .iter()
         .any(|f| uses(f, |o| matches!(o, Op::Param(_))));

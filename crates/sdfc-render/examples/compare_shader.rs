@@ -9,7 +9,8 @@
 //! against the scene's own shader or, where given, against BASE. A shader written
 //! `S.wgsl:D.bin` reads the bytes of `D.bin` as read-only storage at binding 3
 //! (`scripts/bvh-experiment.py`); OTHER written `instances` is the scene compiled with
-//! `Options::instances` (its union as data).
+//! `Options::instances` (its union as data). `SDFC_COMPARE_REFERENCE=1` also prints each
+//! frame's error against the f64 reference.
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -163,7 +164,52 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     println!(
         "difference: {off} channels off by more than 2/255, {hit_miss} hit/miss, depth p99.9 {p999:.2e} relative"
     );
+    if std::env::var("SDFC_COMPARE_REFERENCE").is_ok_and(|v| v == "1") {
+        against_reference(&compiled, &shaders, &frames, &opts);
+    }
     Ok(())
+}
+
+/// Each frame's error against the f64 reference (`SDFC_COMPARE_REFERENCE=1`; slow: the CPU
+/// renders the scene), so that a shader that differs from another can be told closer or
+/// farther.
+fn against_reference(
+    compiled: &sdfc_wgsl::Compiled,
+    shaders: &[(&str, &(String, Option<Vec<u8>>)); 2],
+    frames: &[sdfc_render::Frame],
+    opts: &RenderOptions,
+) {
+    let (width, height) = (opts.width, opts.height);
+    let reference = sdfc_reference::render(
+        compiled.program(),
+        &sdfc_reference::Options::sized(width, height),
+    );
+    for ((name, _), f) in shaders.iter().zip(frames) {
+        let a = f.aovs.as_ref().expect("AOVs");
+        let m = sdfc_reference::metrics::compare(
+            &sdfc_reference::metrics::GpuFrame {
+                width,
+                height,
+                rgba: &f.rgba,
+                depth: &a.depth,
+                normal: &a.normal,
+                steps: &a.steps,
+            },
+            &reference,
+        );
+        println!(
+            "{name} against the f64 reference: hits {}/{}, mismatches {} interior + {} at \
+             silhouettes, depth median {:.2e} p99.9 {:.2e}, normal median {:.3} deg, PSNR {:.1} dB",
+            m.both_hit,
+            m.reference_hits,
+            m.mismatch_interior,
+            m.mismatch_silhouette,
+            m.depth_median,
+            m.depth_p999,
+            m.normal_median_deg,
+            m.psnr_db
+        );
+    }
 }
 
 fn main() -> Result<(), Error> {

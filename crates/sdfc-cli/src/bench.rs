@@ -201,7 +201,9 @@ pub fn run(a: Args) -> Outcome {
         progress.set_message(setting.name.clone());
         let mut variant = program.clone();
         variant.scene.render = setting.render.clone();
-        let wgsl = match sdfc_wgsl::emit_validated(&variant, &sdfc_wgsl::Options::default()) {
+        // As `sdfc render` draws it: a large union read as data (`Instances::Auto`).
+        let emitted = sdfc_wgsl::emit_validated_with_data(&variant, &sdfc_wgsl::Options::default());
+        let (wgsl, data) = match emitted {
             Ok(w) => w,
             Err(f) => {
                 progress.finish_and_clear();
@@ -209,7 +211,7 @@ pub fn run(a: Args) -> Outcome {
                 return crate::report::failure(&name, "", &f);
             }
         };
-        let frame = match renderer.render_wgsl(&variant, &wgsl, &opts) {
+        let frame = match renderer.render_wgsl_with_data(&variant, &wgsl, &data, &opts) {
             Ok(f) => f,
             Err(e) => {
                 progress.finish_and_clear();
@@ -225,7 +227,7 @@ pub fn run(a: Args) -> Outcome {
             }
         }
         rows.push(row(setting, Duration::ZERO, &frame, &reference));
-        built.push((variant, wgsl));
+        built.push((variant, wgsl, data));
         progress.inc(1);
     }
     // Then timed frame by frame in turn, after WARM_UP of the same: a GPU idles at a fraction
@@ -295,13 +297,13 @@ pub fn run(a: Args) -> Outcome {
 /// same (each drawn at least once).
 fn timed_in_turn(
     renderer: &sdfc_render::Renderer,
-    shaders: &[(Program, String)],
+    shaders: &[(Program, String, Vec<u8>)],
     opts: &RenderOptions,
     runs: usize,
 ) -> Result<Vec<Duration>, sdfc_render::RenderError> {
-    let draw = |(program, wgsl): &(Program, String)| {
+    let draw = |(program, wgsl, data): &(Program, String, Vec<u8>)| {
         renderer
-            .render_wgsl(program, wgsl, opts)
+            .render_wgsl_with_data(program, wgsl, data, opts)
             .map(|f| f.device_time.unwrap_or(f.wall_time))
     };
     let start = std::time::Instant::now();

@@ -138,10 +138,10 @@ impl Renderer {
     }
 
     /// Renders `wgsl` as [`Renderer::render_wgsl`] does, with `data` bound as read-only
-    /// storage at binding 3, as [`Renderer::render`] binds a scene's: the hook of
-    /// experiments on shaders that read their scene from a buffer
-    /// (`scripts/bvh-experiment.py`, the `compare_shader` example). Not an API.
-    #[doc(hidden)]
+    /// storage at binding 3 where it is not empty, as [`Renderer::render`] binds a scene's:
+    /// what `sdfc_wgsl::emit_validated_with_data` returns for a program whose settings were
+    /// changed (`sdfc bench`), or an experiment's shader that reads its scene from a buffer
+    /// (`scripts/bvh-experiment.py`, the `compare_shader` example).
     pub fn render_wgsl_with_data(
         &self,
         program: &Program,
@@ -149,7 +149,7 @@ impl Renderer {
         data: &[u8],
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
-        self.render_text(program, wgsl, Some(data), opts)
+        self.render_text(program, wgsl, as_data(data), opts)
     }
 
     /// [`Renderer::render_wgsl`], with `data` at binding 3 where there is some.

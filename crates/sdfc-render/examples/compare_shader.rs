@@ -18,6 +18,9 @@ use std::time::{Duration, Instant};
 
 type Error = Box<dyn std::error::Error>;
 
+/// A shader's text and the data it reads at binding 3, if any.
+type Shader = (String, Option<Vec<u8>>);
+
 /// The grid's own camera sees it from 60 away, where most rays miss its bounds; from close
 /// by every ray marches through the shapes, which is what the experiment measures.
 fn close_grid(n: usize) -> Result<String, Error> {
@@ -175,7 +178,7 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
 /// farther.
 fn against_reference(
     compiled: &sdfc_wgsl::Compiled,
-    shaders: &[(&str, &(String, Option<Vec<u8>>)); 2],
+    shaders: &[(&str, &Shader); 2],
     frames: &[sdfc_render::Frame],
     opts: &RenderOptions,
 ) {

@@ -52,7 +52,7 @@ fn emit(n: usize, dir: &str) -> Result<(), Error> {
 }
 
 /// A shader's text and the data it reads at binding 3, if any, from `S.wgsl[:D.bin]`.
-fn shader(arg: &str) -> Result<(String, Option<Vec<u8>>), Error> {
+fn shader(arg: &str) -> Result<Shader, Error> {
     let (wgsl, data) = match arg.split_once(':') {
         Some((wgsl, data)) => (wgsl, Some(std::fs::read(data)?)),
         None => (arg, None),
@@ -88,7 +88,7 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     // The other shader first: where the own one is slow to build (a large union on a CPU
     // device), the other's figures are printed before a time limit cuts the run short.
     let shaders = [("other shader", &other), (own, &base)];
-    let render = |(wgsl, data): &(String, Option<Vec<u8>>)| match data {
+    let render = |(wgsl, data): &Shader| match data {
         Some(bytes) => r.render_wgsl_with_data(compiled.program(), wgsl, bytes, &opts),
         None => r.render_wgsl(compiled.program(), wgsl, &opts),
     };

@@ -1,15 +1,27 @@
-// The signed distance from p to the scene (the march loop calls only this). The other
-// children's distance comes first: the walk then skips every part no nearer than it.
+// The signed distance from p to the scene, anywhere (shadows, ambient occlusion). The other
+// children's distance comes first: the walk then skips every part no nearer than it. The
+// march samples `march_distance` instead.
 fn scene_distance(p: vec3<f32>) -> f32 {
     return scene_nearest(p, rest_distance(p)).distance;
 }
 
-// The material at a surface point p: the nearest instance's, or the other children's where
-// no instance is nearer (called once per hit).
+// The material at a surface point p, where a march ended: the nearest instance's
+// (`ray_nearest`), or the other children's where no instance is nearer.
 fn scene_material(p: vec3<f32>) -> SceneMaterial {
-    let leaf = scene_nearest(p, rest_distance(p)).leaf;
+    let leaf = ray_nearest(p, rest_distance(p)).leaf;
     if leaf == 0u {
         return rest_material(p);
     }
     return material_by_index(scene_data[leaf + 1u].y);
+}
+
+// The march's distance at p, t along the ray being marched: the other children's, and the
+// instances the ray passes (`ray_distance`).
+fn march_distance(p: vec3<f32>, t: f32) -> f32 {
+    return ray_distance(p, t, rest_distance(p));
+}
+
+// The distance the normal at the march's end samples (`ray_nearest`).
+fn normal_distance(p: vec3<f32>) -> f32 {
+    return ray_nearest(p, rest_distance(p)).distance;
 }

@@ -10,7 +10,8 @@
 //! `S.wgsl:D.bin` reads the bytes of `D.bin` as read-only storage at binding 3
 //! (`scripts/bvh-experiment.py`); OTHER written `instances` is the scene compiled with
 //! `Options::instances` (its union as data). `SDFC_COMPARE_REFERENCE=1` also prints each
-//! frame's error against the f64 reference.
+//! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths
+//! differ.
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -162,6 +163,15 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
         .filter(|(x, y)| x.is_finite() && y.is_finite())
         .map(|(x, y)| ((x - y).abs() / x.abs().max(1e-6)) as f64)
         .collect();
+    if std::env::var("SDFC_COMPARE_PIXELS").is_ok_and(|v| v == "1") {
+        // The pixels whose depths differ by more than 1e-3 relative, or hit and miss.
+        let width = opts.width as usize;
+        for (i, (x, y)) in da.iter().zip(db).enumerate() {
+            if x.is_finite() != y.is_finite() || (x - y).abs() > 1e-3 * x.abs() {
+                println!("pixel {} {}: depth {x} and {y}", i % width, i / width);
+            }
+        }
+    }
     rel.sort_by(f64::total_cmp);
     let p999 = percentile(&rel, 0.999);
     println!(

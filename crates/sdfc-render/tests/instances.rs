@@ -86,13 +86,21 @@ fn against(r: &Renderer, form: Form, reference: &sdfc_reference::Image) -> (Fram
 /// and all against the f64 reference, at 64x48: the same hits and depths, and no larger
 /// error than the code's.
 fn check(name: &str, src: &str) {
+    check_allowing(name, src, 2);
+}
+
+/// [`check`], with `edges` pixels where the two forms may take different surfaces (hit and
+/// miss, or depths apart): the marcher's path decides at a grazing edge, and the two forms'
+/// paths differ where their bounds do. The data form's error against the reference must then
+/// be no larger than the code's.
+fn check_allowing(name: &str, src: &str, edges: usize) {
     let Some(r) = renderer() else { return };
     let code = compile(name, src);
     let reference = sdfc_reference::render(code.program(), &sdfc_reference::Options::sized(W, H));
     let data = with_instances(name, src);
     let (code_frame, c) = against(r, Form::Specialised(&code), &reference);
     let (data_frame, d) = against(r, Form::Specialised(&data), &reference);
-    check_against(name, (&data_frame, &d), (&code_frame, &c));
+    check_against(name, (&data_frame, &d), (&code_frame, &c), edges);
     if data.wgsl.contains("fn rest_distance(") {
         // A mixed union: the interpreter walks only unions of instances alone.
         assert!(encode_as_data(code.program()).is_none(), "{name}");
@@ -100,7 +108,12 @@ fn check(name: &str, src: &str) {
     }
     let interpreted = against(r, Form::Interpreted(code.program()), &reference);
     let name = format!("{name}, interpreted");
-    check_against(&name, (&interpreted.0, &interpreted.1), (&code_frame, &c));
+    check_against(
+        &name,
+        (&interpreted.0, &interpreted.1),
+        (&code_frame, &c),
+        edges,
+    );
 }
 
 /// The data form's frame and metrics `d` against the code form's `c`.
@@ -108,6 +121,7 @@ fn check_against(
     name: &str,
     (data_frame, d): (&Frame, &Metrics),
     (code_frame, c): (&Frame, &Metrics),
+    edges: usize,
 ) {
     eprintln!(
         "{name}: hits {}/{} and {}/{}, mismatches {}+{} and {}+{}, depth p99.9 {:.2e} and {:.2e}, \
@@ -148,6 +162,14 @@ fn check_against(
         d.depth_median
     );
     assert!(d.normal_median_deg <= 0.1, "{name}: normals");
+    // No farther from the reference than the code.
+    assert!(d.psnr_db >= c.psnr_db - 0.5, "{name}: colour error");
+    assert!(
+        d.depth_p999 <= 1.5 * c.depth_p999 + 1e-6,
+        "{name}: depth p99.9 {:e} against {:e}",
+        d.depth_p999,
+        c.depth_p999
+    );
     // The two shaders' own pictures: the same hits, the same depths.
     let (da, ca) = (
         data_frame.aovs.as_ref().unwrap(),
@@ -166,7 +188,7 @@ fn check_against(
         .filter(|(a, b)| a.is_finite() && b.is_finite() && (*a - *b).abs() > 1e-4 * b.abs())
         .count();
     assert!(
-        flips <= 2 && far <= 2,
+        flips <= edges && far <= edges,
         "{name}: {flips} hit/miss and {far} depths differ"
     );
     let colours = data_frame
@@ -211,6 +233,46 @@ fn a_mixed_union_as_data_draws_as_code_does() {
         assert!(c.wgsl.contains("fn rest_distance("), "{name}: not mixed");
         check(name, &src);
     }
+}
+
+/// The mixed grid under every shading feature the ray lists meet: the relaxed marcher,
+/// reflections (a march, and a list, per bounce), shadows and ambient occlusion (which keep
+/// the walk). Hard shadows: a soft shadow's penumbra reads the field away from every
+/// surface, where the walk answers with boxes' distances (a lower bound, not the code's
+/// value), so with `soft(8)` 29 channels differed from the code's picture while its error
+/// against the reference was lower (PSNR 40.1 against 38.9 dB).
+#[test]
+fn a_mixed_union_as_data_draws_with_every_shading_feature() {
+    let src = mixed_grid(0.0).replace(
+        "scene = translate(",
+        "render { relaxation: 1.6, reflections: 2, shadows: hard, \
+         ao: ao(samples: 4, step: 0.08, strength: 1.0, falloff: 0.7) }\nscene = translate(",
+    );
+    let c = with_instances("shaded", &src);
+    assert!(c.wgsl.contains("fn rest_distance(") && c.wgsl.contains("fn march_listed("));
+    // Four edges: the relaxed marcher's path (docs/performance.md, "Relaxation") parted
+    // the two forms on 3 pixels at 64x48, where the data form's picture was nearer the
+    // reference (PSNR 37.3 against 36.3 dB, the same hits and depth p99.9).
+    check_allowing("mixed grid_120, shaded", &src, 4);
+}
+
+/// A block of spheres 4 wide, 4 high and 40 deep, seen along its depth from just in front:
+/// rays between the rows pass more boxes than a ray's list holds (`RAY_LIST`, 32), so their
+/// lists are cut and the walk takes over beyond the cut.
+#[test]
+fn rays_past_more_instances_than_a_list_holds() {
+    let mut src = String::from(
+        "camera { position: [1.7, 1.6, 3], target: [1.4, 1.4, -40], fov: 60deg }\nscene = union(\n",
+    );
+    for i in 0..640 {
+        let (x, y, z) = (i % 4, (i / 4) % 4, i / 16);
+        src += &format!("    sphere(0.3).translate([{x}, {y}, -{z}]),\n");
+    }
+    src += ");\n";
+    // Rays along the rows graze sphere after sphere: at 64x48 the lists part from the code
+    // on 5 such pixels (the walk on 1), each within the threshold of the surface both
+    // take, with the same hits, mismatches and depth p99.9 against the reference.
+    check_allowing("a block of 640 spheres", &src, 8);
 }
 
 /// The option changes nothing where the root is not a union of instances.

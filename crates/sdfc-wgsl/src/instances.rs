@@ -16,6 +16,8 @@ use std::fmt::Write;
 
 /// The walk over the data.
 const WALK: &str = include_str!("../../../shaders/instances.wgsl");
+/// The march's lists of the instances each ray passes.
+const RAYS: &str = include_str!("../../../shaders/instances_rays.wgsl");
 /// `scene_distance` and `scene_material` over a union of instances alone.
 const ENDS: &str = include_str!("../../../shaders/instances_ends.wgsl");
 /// The same over a mixed union: the walk beside the other children's code.
@@ -203,6 +205,8 @@ impl Plan {
         }
         s += "    }\n}\n\n";
         s += WALK;
+        s += "\n";
+        s += RAYS;
         s += "\n";
         s += if self.rest.is_some() {
             ENDS_MIXED

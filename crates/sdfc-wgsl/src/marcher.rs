@@ -19,7 +19,36 @@ pub struct View<'a> {
     /// The scene's bounds (the analysis's box of the root, world coordinates; infinite on
     /// unbounded axes), from which `ray_span` starts and ends each march.
     pub bounds: ([f64; 3], [f64; 3]),
+    /// Whether the union is read as data (`shaders/instances_rays.wgsl`): each march lists
+    /// the instances its ray passes and samples `march_distance`, and the normals sample
+    /// `normal_distance` near the march's end (shadows and AO keep `scene_distance`).
+    pub ray_lists: bool,
 }
+
+/// The march's and the hit refinement's samples along the ray, through the ray's list.
+fn listed(part: &str, on: bool) -> String {
+    if on {
+        part.replace(
+            "scene_distance(ro + rd * t)",
+            "march_distance(ro + rd * t, t)",
+        )
+    } else {
+        part.to_string()
+    }
+}
+
+/// The march with the ray's list made first and the end's t kept for the normal.
+const MARCH_LISTED: &str = "
+// The march of one ray: the instances it passes listed first (`ray_start`), and the t where
+// it ends kept for the normal there.
+fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
+    let span = ray_span(ro, rd);
+    ray_start(ro, rd, span.x, span.y, pixel);
+    let hit = march_listed(ro, rd, pixel);
+    ray_hit = hit.t;
+    return hit;
+}
+";
 
 /// The text of a marcher part, calling `scene_distance_ray` along the ray when the scene
 /// has it. The parts sample the ray as `scene_distance(ro + rd * t)`; a test checks that
@@ -39,13 +68,13 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     let mut s = String::new();
     s += &constants(scene, view.origin);
     s += "\n";
-    s += &along_ray(parts::HIT, view.along_ray);
+    s += &listed(&along_ray(parts::HIT, view.along_ray), view.ray_lists);
     s += "\n";
     s += &ray_span(view);
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
-    s += &along_ray(
+    let march = along_ray(
         if scene.render.relaxation > 1.0 {
             parts::MARCH_RELAXED
         } else {
@@ -53,6 +82,12 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         },
         view.along_ray,
     );
+    if view.ray_lists {
+        s += &listed(&march, true).replacen("fn march(", "fn march_listed(", 1);
+        s += MARCH_LISTED;
+    } else {
+        s += &march;
+    }
     s += "\n";
     s += parts::CAMERA;
     s += "\n";
@@ -67,7 +102,11 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         Normals::Tetrahedron => Some(parts::NORMALS_TETRAHEDRON),
         Normals::Analytic => None,
     } {
-        s += part;
+        if view.ray_lists {
+            s += &part.replace("scene_distance(", "normal_distance(");
+        } else {
+            s += part;
+        }
         s += "\n";
     }
     match scene.render.shadows {
@@ -350,7 +389,7 @@ fn finish(scene: &Scene) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{along_ray, analytic_surface_normal};
+    use super::{along_ray, analytic_surface_normal, listed};
     use crate::parts;
 
     /// The analytic `surface_normal` replaces the difference one in the entry point's part,
@@ -373,6 +412,27 @@ mod tests {
             let rewritten = along_ray(part, true);
             assert!(rewritten.contains("scene_distance_ray(ro + rd * t, rd)"));
             assert!(!rewritten.contains("scene_distance(ro + rd * t)"));
+        }
+    }
+
+    /// The same for the ray lists of a union read as data, in the march and the refinement
+    /// (else the march would silently walk the whole hierarchy at every step); and each
+    /// difference normal samples through `normal_distance` where the parts are rewritten
+    /// for them (`emit`).
+    #[test]
+    fn every_ray_sampling_part_samples_the_ray_s_list() {
+        for part in [parts::HIT, parts::MARCH_PLAIN, parts::MARCH_RELAXED] {
+            let rewritten = listed(part, true);
+            assert!(rewritten.contains("march_distance(ro + rd * t, t)"));
+            assert!(!rewritten.contains("scene_distance("));
+            assert_eq!(listed(part, false), part);
+        }
+        for part in [
+            parts::NORMALS_CENTRAL,
+            parts::NORMALS_FORWARD,
+            parts::NORMALS_TETRAHEDRON,
+        ] {
+            assert!(part.contains("scene_distance(p + "), "{part}");
         }
     }
 }

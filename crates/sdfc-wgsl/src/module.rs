@@ -232,6 +232,7 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             lights: frame.lights,
             along_ray: distance_ray.is_some() && instances.is_none(),
             bounds,
+            ray_lists: instances.is_some(),
         };
         s += &marcher::emit(&p.scene, &view);
     }

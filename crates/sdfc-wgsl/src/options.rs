@@ -36,12 +36,13 @@ pub enum Instances {
     Never,
 }
 
-/// The size from which [`Instances::Auto`] reads a union as data. On lavapipe the walk ran a
-/// 1 000-shape grid 1.18x faster than its code from close by and built its pipeline in under
-/// a second against 4 to 5 s (the 300-shape grid: 0.43x from close by, 1.26x from afar);
-/// code's build time grows with the shapes on every driver measured (the H200's took 3.4 s
-/// for 300 shapes, more than four minutes for 5 000). docs/performance.md, "Large unions as
-/// data" and "Data by default".
+/// The size from which [`Instances::Auto`] reads a union as data. On lavapipe the data form
+/// (its rays' lists) drew a 1 000-shape grid 7.2x faster than its code from close by and
+/// built its pipeline in about a second against 2 to 5 s; the 300-shape grid 2.6x to 2.7x
+/// faster, but its pipeline took 1.0 s to build against 0.4 s as code, so smaller unions stay
+/// code. Code's build time grows with the shapes on every driver measured (the H200's took
+/// 3.4 s for 300 shapes, more than four minutes for 5 000). docs/performance.md, "Data by
+/// default" and "Culling per ray".
 pub const AUTO_INSTANCES: usize = 1000;
 
 impl Instances {

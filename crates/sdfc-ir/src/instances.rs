@@ -125,23 +125,13 @@ fn find_in(
     let mut rest = Vec::new();
     for &child in children {
         let found = instance(scene, analysis, root, child, &outer, &mut memo);
-        let Some((prim, values, f, b)) = found else {
+        let Some((prim, values, f, b, q, c)) = found else {
             if !mixed {
                 return None;
             }
             rest.push(child);
             continue;
         };
-        // Turns only (a mirror or a shear has no quaternion, and is left to the rest): m p +
-        // o = m (p - c) with c = -m^-1 o.
-        let (Some(q), Some(inv)) = (quaternion(&f.m), inverse(&f.m)) else {
-            if !mixed {
-                return None;
-            }
-            rest.push(child);
-            continue;
-        };
-        let c = mat_vec(&inv, &f.o).map(|x| -x);
         let key = (prim, values.iter().map(|v| v.ty()).collect());
         let template = match templates.iter().position(|k| *k == key) {
             Some(i) => i as u32,
@@ -174,8 +164,11 @@ fn find_in(
     })
 }
 
-/// One child of the union as an instance: its primitive, constant arguments, frame and box;
-/// `None` where it is not one.
+/// What [`instance`] finds: the primitive, its constant arguments, the frame, the box, the
+/// turn as a quaternion and the centre.
+type Found = (Prim, Vec<Value<f64>>, Frame, Aabb, [f64; 4], [f64; 3]);
+
+/// One child of the union as an instance; `None` where it is not one.
 fn instance(
     scene: &Scene,
     analysis: &Analysis,
@@ -183,7 +176,7 @@ fn instance(
     child: ShapeId,
     outer: &Frame,
     memo: &mut FxHashMap<crate::graph::NodeId, Option<Value<f64>>>,
-) -> Option<(Prim, Vec<Value<f64>>, Frame, Aabb)> {
+) -> Option<Found> {
     let (prim_shape, f) = peel(scene, child, outer.clone(), memo)?;
     let ShapeKind::Prim { prim, args } = &scene.shape(prim_shape).kind else {
         return None;
@@ -215,7 +208,11 @@ fn instance(
     if !b.lo.iter().chain(&b.hi).all(|x| x.is_finite()) {
         return None;
     }
-    Some((*prim, values, f, b))
+    // Turns only (a mirror or a shear has no quaternion): m p + o = m (p - c) with
+    // c = -m^-1 o.
+    let q = quaternion(&f.m)?;
+    let c = mat_vec(&inverse(&f.m)?, &f.o).map(|x| -x);
+    Some((*prim, values, f, b, q, c))
 }
 
 /// The frame a shape is evaluated in: `local = (m p + o) / s`, the distance times `s`; and

@@ -3,6 +3,7 @@
 //! holds every instance once, its boxes nested and its skip links right.
 
 use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::func::Func;
 use sdfc_ir::instances::{find, turn, Instances};
 use sdfc_ir::value::Value;
 use sdfc_ir::Program;
@@ -35,6 +36,26 @@ fn union(n: usize) -> String {
         );
     }
     s + ");\n"
+}
+
+/// The instances' union at `q`: each one's kind at `turn(q, q - centre) / scale` (turned
+/// by the quaternion the shader reads), times `scale`.
+fn instances_at(f: &Instances, templates: &[Func], q: [f64; 3]) -> f64 {
+    f.items
+        .iter()
+        .map(|i| {
+            let d = [0, 1, 2].map(|a| q[a] - i.centre[a]);
+            let local = turn(i.q, d).map(|x| x / i.scale);
+            let inputs = Inputs {
+                params: i.args.clone(),
+                ..Inputs::at(local)
+            };
+            match eval_func(&templates[i.template as usize], &[], &inputs)[0] {
+                Value::F(d) => d * i.scale,
+                ref v => panic!("{v:?}"),
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 fn found(src: &str) -> Option<(Program, Instances)> {
@@ -96,24 +117,7 @@ fn the_instances_give_the_union_s_distance() {
             Value::F(d) => d,
             v => panic!("{v:?}"),
         };
-        let got = f
-            .items
-            .iter()
-            .map(|i| {
-                let d = [0, 1, 2].map(|a| q[a] - i.centre[a]);
-                // Turned by the quaternion the shader reads.
-                let local = turn(i.q, d).map(|x| x / i.scale);
-                let f = &templates[i.template as usize];
-                let inputs = Inputs {
-                    params: i.args.clone(),
-                    ..Inputs::at(local)
-                };
-                match eval_func(f, &[], &inputs)[0] {
-                    Value::F(d) => d * i.scale,
-                    v => panic!("{v:?}"),
-                }
-            })
-            .fold(f64::INFINITY, f64::min);
+        let got = instances_at(&f, &templates, q);
         worst = worst.max((got - want).abs() / want.abs().max(1.0));
     }
     // The program's constants are f32 (its rotations' sines and cosines rounded): the
@@ -205,19 +209,7 @@ fn a_mixed_union_keeps_its_other_children_as_code() {
         };
         let want = scalar(&eval_func(&p.distance, &p.groups, &at)[0]);
         let r = scalar(&eval_func(&rest.distance, &rest.groups, &at)[0]);
-        let walk = f
-            .items
-            .iter()
-            .map(|it| {
-                let v = turn(it.q, [0, 1, 2].map(|a| q[a] - it.centre[a]));
-                let local = v.map(|x| x / it.scale);
-                let args = Inputs {
-                    params: it.args.clone(),
-                    ..Inputs::at(local)
-                };
-                scalar(&eval_func(&templates[it.template as usize], &[], &args)[0]) * it.scale
-            })
-            .fold(f64::INFINITY, f64::min);
+        let walk = instances_at(&f, &templates, q);
         let got = r.min(walk);
         // The program's constants are f32, the instances' frames f64 (as above).
         let off = (got - want).abs() / want.abs().max(1.0);

@@ -31,8 +31,9 @@ pub struct Plan {
     pub rest: Option<Rest>,
 }
 
-/// The plan for `p`'s render shader, or `None` where its root is not a union of instances
-/// (`sdfc_ir::instances::find`), or where the shader needs the union as code: analytic
+/// The plan for `p`'s render shader, or `None` where its root is not a union holding
+/// instances (`sdfc_ir::instances::find_mixed`), or where the shader needs the union as
+/// code: analytic
 /// normals differentiate the distance function, and `scene_distance_ray` steps along rays
 /// through nodes the walk does not have.
 pub fn plan(p: &Program) -> Option<Plan> {

@@ -8,8 +8,10 @@ listed instances whose interval holds t (with a margin); every other listed inst
 contributes its distance along the ray to its interval (a bound on how far the ray can
 step before it could meet that instance), and unlisted instances none: no ray of the tile
 comes near them. Normals, the material and everything else keep the walk over the whole
-union. Not part of the compiler (it writes the tile lists for one camera and one image
-size); docs/performance.md, "Per-tile ray culling (an experiment)".
+union. The shader's own lists, which each march makes on the device (`ray_start`,
+docs/performance.md, "Culling per ray"), give way to the tile's. Not part of the compiler
+(it writes the tile lists for one camera and one image size); docs/performance.md,
+"Per-tile ray culling (an experiment)".
 
     sdfc compile SCENE.sdf --instances --data IN.bin -o IN.wgsl
     scripts/tile-experiment.py IN.wgsl IN.bin WxH OUT.wgsl OUT.bin
@@ -238,13 +240,15 @@ fn tile_nearest(p: vec3<f32>) -> Nearest {
             sys.exit(f"expected {count} of {old!r} in the shader")
         wgsl = wgsl.replace(old, new)
 
+    # The shader's own per-ray lists (`shaders/instances_rays.wgsl`) give way to the tile's.
     sub("fn scene_distance(p: vec3<f32>) -> f32 {", part + "\nfn scene_distance(p: vec3<f32>) -> f32 {")
+    sub("    ray_start(ro, rd, span.x, span.y, pixel);\n", "")
     sub(
-        "            let d = scene_distance(ro + rd * t);\n",
+        "            let d = march_distance(ro + rd * t, t);\n",
         "            let d = tile_distance(ro + rd * t, t, 4.0 * surface_epsilon(t, pixel) + 1e-4);\n",
     )
     sub(
-        "        d = scene_distance(ro + rd * t);\n",
+        "        d = march_distance(ro + rd * t, t);\n",
         "        d = tile_distance(ro + rd * t, t, 4.0 * eps + 1e-4);\n",
     )
     sub(
@@ -254,17 +258,27 @@ fn tile_nearest(p: vec3<f32>) -> Nearest {
     )
     if os.environ.get("SDFC_TILE_SHADING") == "1":
         sub(
-            "        n = n + k[i] * scene_distance(p + k[i] * h);\n",
+            "        n = n + k[i] * normal_distance(p + k[i] * h);\n",
             "        n = n + k[i] * tile_nearest(p + k[i] * h).distance;\n",
         )
         sub(
-            "    let leaf = scene_nearest(p, 3.0e38).leaf;\n",
+            "    let leaf = ray_nearest(p, 3.0e38).leaf;\n",
             "    let leaf = tile_nearest(p).leaf;\n",
         )
         sub(
-            "    let hit = march(ro, rd, pixel);\n",
-            "    let hit = march(ro, rd, pixel);\n    tile_t = hit.t;\n"
+            "    ray_hit = hit.t;\n",
+            "    ray_hit = hit.t;\n    tile_t = hit.t;\n"
             "    tile_m = 4.0 * surface_epsilon(hit.t, pixel) + 1e-4;\n",
+        )
+    else:
+        # The walk for the normal and the material, as before the shader's own lists.
+        sub(
+            "        n = n + k[i] * normal_distance(p + k[i] * h);\n",
+            "        n = n + k[i] * scene_distance(p + k[i] * h);\n",
+        )
+        sub(
+            "    let leaf = ray_nearest(p, 3.0e38).leaf;\n",
+            "    let leaf = scene_nearest(p, 3.0e38).leaf;\n",
         )
     open(sys.argv[4], "w").write(wgsl)
 

@@ -13,6 +13,13 @@ struct Sample {
     normal: vec3<f32>,
 }
 
+// The surface threshold the march takes at t: the setting's, and never below two f32 steps
+// of t, a step that may not move the ray at all (a finer threshold, `epsilon: 1e-7` or a
+// fov of 1e-5 degrees, stalled rays until they ran out of steps).
+fn march_threshold(t: f32, pixel: f32) -> f32 {
+    return max(surface_epsilon(t, pixel), 2.4e-7 * t);
+}
+
 // The end of a march that left its loop without a hit, at t after `steps` samples. Out of
 // steps while passing a surface by, still within a tenth of the threshold (`passing`), is a
 // hit where the ray is: a ray that grazes a silhouette crawls past it in steps of about a

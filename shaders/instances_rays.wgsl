@@ -24,9 +24,11 @@ var<private> ray_k0: u32;
 var<private> ray_t0: f32;
 var<private> ray_hit: f32;
 
-// The surface threshold at t, as the marcher takes it.
-fn ray_threshold(t: f32) -> f32 {
-    return max(surface_epsilon(t, ray_pixel), 2.4e-7 * t);
+// How far from its stretch an instance is still evaluated at t: four surface thresholds
+// (`march_threshold`), so that a stretch's ends never look like a surface (a bound below the
+// threshold would).
+fn ray_margin(t: f32) -> f32 {
+    return 4.0 * march_threshold(t, ray_pixel) + 1e-4;
 }
 
 // Lists the instances whose boxes the ray from ro along rd passes through between t0 and
@@ -52,7 +54,7 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
         let b = scene_data[2u * i + 1u];
         let c = bitcast<vec3<f32>>(a.xyz);
         let half = bitcast<vec3<f32>>(b.xyz);
-        let h = half + 1.5 * ray_threshold(length(c - ro) + length(half)) + 1e-3;
+        let h = half + 1.5 * march_threshold(length(c - ro) + length(half), pixel) + 1e-3;
         let ta = (c - h - ro) * inv;
         let tb = (c + h - ro) * inv;
         let tn = min(ta, tb);
@@ -108,18 +110,17 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
 
 // A bound on how far the ray can step from t (at p, the point there), both ways along it,
 // at most `below` (a distance already known): a listed instance whose stretch holds t
-// (within a margin of four thresholds) gives its distance; one further along, the ray's
+// (within `ray_margin`) gives its distance; one further along, the ray's
 // distance to its entry; one behind, the distance back to its exit; what the list left
 // out, the distance to the cut. The list is sorted by entry, so the loop stops at the first
 // entry further than the bound so far; the entries that (with all before them) ended more
 // than a margin before t are passed over from where the last step began (from the list's
-// start when t went back), and bound the step by t minus their last exit. The margin keeps a
-// stretch's ends from looking like a surface (a bound below the threshold would). From a
-// margin before the cut on, the walk answers. (Listing the ray again there was tried: where
+// start when t went back), and bound the step by t minus their last exit. From a margin
+// before the cut on, the walk answers. (Listing the ray again there was tried: where
 // more than RAY_LIST padded boxes hold one point, the new cut falls behind t again, and a
 // march that far is rare: rays from afar meet the front of a union early.)
 fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
-    let m = 4.0 * ray_threshold(t) + 1e-4;
+    let m = ray_margin(t);
     if t < ray_lo || t > ray_cut - m {
         return scene_nearest(p, below).distance;
     }
@@ -161,7 +162,7 @@ fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
 // instances whose stretch holds that end within the margin. Every instance within the
 // normal's step of the end is among them (the boxes' padding is far larger than the step).
 fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
-    let m = 4.0 * ray_threshold(ray_hit) + 1e-4;
+    let m = ray_margin(ray_hit);
     if ray_hit < ray_lo || ray_hit > ray_cut - m {
         return scene_nearest(p, below);
     }

@@ -42,10 +42,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 continue;
             }
             jump = 0.0;
-            // A step below two f32 steps of t may not move the ray at all: a finer threshold
-            // (`epsilon: 1e-7`, a fov of 1e-5 degrees) stalled rays until they ran out of
-            // steps.
-            let eps = max(surface_epsilon(t, pixel), 2.4e-7 * t);
+            let eps = march_threshold(t, pixel);
             if passing && d <= eps && d > last {
                 // Receding from a surface passed by, within the threshold: no hit. Refinement
                 // would only find the same pass at the cost of a sample; steps of 1.9 d while

@@ -42,10 +42,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 retry = true;
                 leap = false;
             } else {
-                // A step below two f32 steps of t may not move the ray at all: a finer
-                // threshold (`epsilon: 1e-7`, a fov of 1e-5 degrees) stalled rays until they
-                // ran out of steps.
-                let eps = max(surface_epsilon(t, pixel), 2.4e-7 * t);
+                let eps = march_threshold(t, pixel);
                 // `<=`: at the camera the pixel threshold is 0, and a camera on a surface (d =
                 // 0) must hit there rather than step by 0 for ever.
                 if passing && d <= eps && d > prev_radius {

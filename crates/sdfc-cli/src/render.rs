@@ -374,6 +374,7 @@ pub fn run(a: Args) -> Outcome {
     if let Err(o) = check_time(a.time) {
         return o;
     }
+    let instances = instances_mode(&a);
     if a.live {
         return crate::live::run(crate::live::Request {
             scene: &a.scene,
@@ -383,7 +384,7 @@ pub fn run(a: Args) -> Outcome {
             size: a.size,
             time: a.time,
             cull: a.cull,
-            instances: instances_mode(&a),
+            instances,
             grace: std::time::Duration::from_millis(a.grace),
             preview_scale: a.preview_scale,
             watch: a.watch,
@@ -391,7 +392,7 @@ pub fn run(a: Args) -> Outcome {
     }
     let opts = sdfc_wgsl::Options {
         cull: a.cull,
-        instances: instances_mode(&a),
+        instances,
         ..sdfc_wgsl::Options::default()
     };
     let (compiled, overrides, renderer) = match prepare(&a.scene, &a.params, &opts) {
@@ -401,7 +402,7 @@ pub fn run(a: Args) -> Outcome {
     if a.instances && !a.interpreted && compiled.data.is_empty() {
         say!("{}", instances_note(true, "it is compiled as code"));
     }
-    if instances_mode(&a) == sdfc_wgsl::Instances::Auto && !compiled.data.is_empty() {
+    if instances == sdfc_wgsl::Instances::Auto && !compiled.data.is_empty() {
         // Said, because the picture's time and the flags that apply (`--cull`) change with it.
         say!(
             "sdfc: note: the scene's root union holds {} or more constant shapes, so they \
@@ -423,7 +424,7 @@ pub fn run(a: Args) -> Outcome {
                 "sdfc: note: the interpreted marcher has no gradient code; `normals: analytic` renders with `tetrahedron` there"
             );
         }
-        interpreted(&renderer, compiled.program(), instances_mode(&a), &opts)
+        interpreted(&renderer, compiled.program(), instances, &opts)
     } else {
         crate::slow_note::unless_quick(|| renderer.render(&compiled, &opts))
     };

@@ -325,8 +325,7 @@ pub fn emit_validated_with_data(
 /// [`emit_validated_with_data`] with options already checked.
 fn emit_with_data(program: &Program, opts: &Options) -> Result<(String, Vec<u8>), Failure> {
     let plan = opts
-        .instances
-        .min_instances(opts)
+        .data_from()
         .and_then(|min| instances::plan_at_least(program, min));
     let wgsl = emit_checked(program, opts, plan.as_ref())?;
     Ok((wgsl, plan.map_or_else(Vec::new, |p| p.data())))

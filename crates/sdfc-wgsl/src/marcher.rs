@@ -25,13 +25,18 @@ pub struct View<'a> {
     pub ray_lists: bool,
 }
 
-/// The march's and the hit refinement's samples along the ray, through the ray's list.
-fn listed(part: &str, on: bool) -> String {
-    if on {
-        part.replace(
-            "scene_distance(ro + rd * t)",
-            "march_distance(ro + rd * t, t)",
-        )
+/// How the march's and the hit refinement's parts sample the ray; a test checks that each
+/// still does.
+const RAY_SAMPLE: &str = "scene_distance(ro + rd * t)";
+
+/// A marcher part with its samples along the ray taken as `view` asks: through the ray's
+/// list where the union is data, through `scene_distance_ray` where the scene has it, else
+/// as written.
+fn sampled(part: &str, view: &View) -> String {
+    if view.ray_lists {
+        part.replace(RAY_SAMPLE, "march_distance(ro + rd * t, t)")
+    } else if view.along_ray {
+        part.replace(RAY_SAMPLE, "scene_distance_ray(ro + rd * t, rd)")
     } else {
         part.to_string()
     }
@@ -50,40 +55,26 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
 }
 ";
 
-/// The text of a marcher part, calling `scene_distance_ray` along the ray when the scene
-/// has it. The parts sample the ray as `scene_distance(ro + rd * t)`; a test checks that
-/// each still does.
-pub(crate) fn along_ray(part: &str, on: bool) -> String {
-    if on {
-        part.replace(
-            "scene_distance(ro + rd * t)",
-            "scene_distance_ray(ro + rd * t, rd)",
-        )
-    } else {
-        part.to_string()
-    }
-}
-
 pub fn emit(scene: &Scene, view: &View) -> String {
     let mut s = String::new();
     s += &constants(scene, view.origin);
     s += "\n";
-    s += &listed(&along_ray(parts::HIT, view.along_ray), view.ray_lists);
+    s += &sampled(parts::HIT, view);
     s += "\n";
     s += &ray_span(view);
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
-    let march = along_ray(
+    let march = sampled(
         if scene.render.relaxation > 1.0 {
             parts::MARCH_RELAXED
         } else {
             parts::MARCH_PLAIN
         },
-        view.along_ray,
+        view,
     );
     if view.ray_lists {
-        s += &listed(&march, true).replacen("fn march(", "fn march_listed(", 1);
+        s += &march.replacen("fn march(", "fn march_listed(", 1);
         s += MARCH_LISTED;
     } else {
         s += &march;
@@ -389,8 +380,18 @@ fn finish(scene: &Scene) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{along_ray, analytic_surface_normal, listed};
+    use super::{analytic_surface_normal, sampled, View, RAY_SAMPLE};
     use crate::parts;
+
+    fn view(along_ray: bool, ray_lists: bool) -> View<'static> {
+        View {
+            origin: [0.0; 3],
+            lights: &[],
+            along_ray,
+            bounds: ([0.0; 3], [0.0; 3]),
+            ray_lists,
+        }
+    }
 
     /// The analytic `surface_normal` replaces the difference one in the entry point's part,
     /// exactly once, and the rest of the part stays.
@@ -404,28 +405,25 @@ mod tests {
         assert_eq!(analytic_surface_normal(parts::MAIN, false), parts::MAIN);
     }
 
-    /// `along_ray` finds its text in every part it rewrites: were a part's ray sample
-    /// written differently, its march would silently keep the isotropic bound.
+    /// `sampled` finds its text in every part it rewrites: were a part's ray sample written
+    /// differently, its march would silently keep the isotropic bound (`scene_distance_ray`)
+    /// or walk the whole hierarchy at every step (the ray's list of a union read as data).
+    /// And each difference normal samples `scene_distance(p + ...)`, which `emit` rewrites
+    /// to `normal_distance` for the list.
     #[test]
     fn every_ray_sampling_part_is_rewritten() {
         for part in [parts::HIT, parts::MARCH_PLAIN, parts::MARCH_RELAXED] {
-            let rewritten = along_ray(part, true);
-            assert!(rewritten.contains("scene_distance_ray(ro + rd * t, rd)"));
-            assert!(!rewritten.contains("scene_distance(ro + rd * t)"));
-        }
-    }
-
-    /// The same for the ray lists of a union read as data, in the march and the refinement
-    /// (else the march would silently walk the whole hierarchy at every step); and each
-    /// difference normal samples through `normal_distance` where the parts are rewritten
-    /// for them (`emit`).
-    #[test]
-    fn every_ray_sampling_part_samples_the_ray_s_list() {
-        for part in [parts::HIT, parts::MARCH_PLAIN, parts::MARCH_RELAXED] {
-            let rewritten = listed(part, true);
-            assert!(rewritten.contains("march_distance(ro + rd * t, t)"));
-            assert!(!rewritten.contains("scene_distance("));
-            assert_eq!(listed(part, false), part);
+            for (v, call) in [
+                (view(true, false), "scene_distance_ray(ro + rd * t, rd)"),
+                (view(false, true), "march_distance(ro + rd * t, t)"),
+            ] {
+                let rewritten = sampled(part, &v);
+                assert!(rewritten.contains(call), "{call}");
+                assert!(!rewritten.contains(RAY_SAMPLE), "{call}");
+            }
+            // The list's march and refinement never sample the whole union.
+            assert!(!sampled(part, &view(false, true)).contains("scene_distance("));
+            assert_eq!(sampled(part, &view(false, false)), part);
         }
         for part in [
             parts::NORMALS_CENTRAL,

@@ -45,18 +45,16 @@ pub enum Instances {
 /// default" and "Culling per ray".
 pub const AUTO_INSTANCES: usize = 1000;
 
-impl Instances {
-    /// The fewest instances read as data under these options, or `None` for code.
-    pub fn min_instances(self, opts: &Options) -> Option<usize> {
-        match self {
+impl Options {
+    /// The fewest instances these options read as data, or `None` for code.
+    pub fn data_from(&self) -> Option<usize> {
+        match self.instances {
             Instances::Always => Some(sdfc_ir::instances::MIN_CHILDREN),
-            Instances::Auto if !opts.lib && !opts.cull => Some(AUTO_INSTANCES),
+            Instances::Auto if !self.lib && !self.cull => Some(AUTO_INSTANCES),
             Instances::Auto | Instances::Never => None,
         }
     }
-}
 
-impl Options {
     /// Whether the options make sense together; the reason, if not.
     pub fn check(&self) -> Result<(), String> {
         if self.instances == Instances::Always && self.lib {

@@ -11,7 +11,7 @@
 //! (`scripts/bvh-experiment.py`); OTHER written `instances` is the scene compiled with
 //! `Options::instances` (its union as data). `SDFC_COMPARE_REFERENCE=1` also prints each
 //! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths
-//! differ.
+//! differ (and, with the reference, those whose depths differ from its).
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -222,6 +222,27 @@ fn against_reference(
             m.normal_median_deg,
             m.psnr_db
         );
+        if std::env::var("SDFC_COMPARE_PIXELS").is_ok_and(|v| v == "1") {
+            // The pixels whose depth differs from the reference's by more than 1e-3 relative,
+            // or that hit where it misses or the other way, with both colours.
+            for (i, (r, &d)) in reference.pixels.iter().zip(&a.depth).enumerate() {
+                let off = if r.hit && d.is_finite() {
+                    (f64::from(d) - r.depth).abs() > 1e-3 * r.depth.abs()
+                } else {
+                    r.hit != d.is_finite()
+                };
+                if off {
+                    let rgb = &f.rgba[4 * i..4 * i + 3];
+                    println!(
+                        "  pixel {} {}: depth {d} (reference {:.6}), colour {rgb:?} (reference {:?})",
+                        i % width as usize,
+                        i / width as usize,
+                        if r.hit { r.depth } else { f64::INFINITY },
+                        &r.rgba[..3]
+                    );
+                }
+            }
+        }
     }
 }
 

@@ -43,44 +43,47 @@ fn instance_distance(p: vec3<f32>, leaf: u32) -> f32 {
 fn scene_nearest(p: vec3<f32>, below: f32) -> Nearest {
     var d = below;
     var nearest = 0u;
-    if scene_hint != 0u {
-        let dh = instance_distance(p, scene_hint);
-        if dh < d {
-            d = dh;
-            nearest = scene_hint;
-        }
-    }
     // The root's skip link: the number of nodes.
     let end = scene_data[0].w;
     var i = 0u;
+    // The hint is the loop's first leaf, so that the loop holds the only call of
+    // instance_distance: drivers inline every call, and Mesa's build of the 300-shape grid's
+    // pipeline took 0.73 s with a call for the hint before the loop, 0.58 s without.
+    var hint = scene_hint;
     loop {
-        if i >= end {
-            break;
-        }
-        let a = scene_data[2u * i];
-        let b = scene_data[2u * i + 1u];
-        let half = bitcast<vec3<f32>>(b.xyz);
-        let q = abs(p - bitcast<vec3<f32>>(a.xyz)) - half;
-        let bd = length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
-        if bd >= d {
+        var leaf = hint;
+        if hint != 0u {
+            hint = 0u;
+        } else {
+            if i >= end {
+                break;
+            }
+            let a = scene_data[2u * i];
+            let b = scene_data[2u * i + 1u];
+            let half = bitcast<vec3<f32>>(b.xyz);
+            let q = abs(p - bitcast<vec3<f32>>(a.xyz)) - half;
+            let bd = length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
+            if bd >= d {
+                i = a.w;
+                continue;
+            }
+            if bd > length(half) {
+                d = bd;
+                i = a.w;
+                continue;
+            }
+            if b.w == 0u {
+                i = i + 1u;
+                continue;
+            }
+            leaf = b.w;
             i = a.w;
-            continue;
         }
-        if bd > length(half) {
-            d = bd;
-            i = a.w;
-            continue;
-        }
-        if b.w == 0u {
-            i = i + 1u;
-            continue;
-        }
-        let di = instance_distance(p, b.w);
+        let di = instance_distance(p, leaf);
         if di < d {
             d = di;
-            nearest = b.w;
+            nearest = leaf;
         }
-        i = a.w;
     }
     if nearest != 0u {
         scene_hint = nearest;

@@ -4,7 +4,7 @@
 // distance to their stretch, and the rest of the union cannot come near the ray. The list
 // holds the RAY_LIST entries the ray meets first: from the first one left out (`ray_cut`)
 // on, the walk over the whole hierarchy answers. On lavapipe this drew the 300-shape grid
-// 3.1x to 3.5x faster than its code, where the walk at every step ran at 0.43x from close
+// 3.5x to 4.4x faster than its code, where the walk at every step ran at 0.43x from close
 // by (docs/performance.md, "Culling per ray").
 const RAY_LIST: u32 = 32u;
 
@@ -167,28 +167,29 @@ fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
 // normal's step of the end is among them (the boxes' padding is far larger than the step).
 fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
     let m = ray_margin(ray_hit);
-    if ray_hit < ray_lo || ray_hit > ray_cut - m {
-        return scene_nearest(p, below);
-    }
     var d = below;
     var leaf = 0u;
     var held = false;
-    for (var k = 0u; k < ray_n; k = k + 1u) {
-        if ray_in[k] - m > ray_hit {
-            break;
-        }
-        if ray_hit <= ray_out[k] + m {
-            held = true;
-            let di = instance_distance(p, ray_leaf[k]);
-            if di < d {
-                d = di;
-                leaf = ray_leaf[k];
+    if ray_hit >= ray_lo && ray_hit <= ray_cut - m {
+        for (var k = 0u; k < ray_n; k = k + 1u) {
+            if ray_in[k] - m > ray_hit {
+                break;
+            }
+            if ray_hit <= ray_out[k] + m {
+                held = true;
+                let di = instance_distance(p, ray_leaf[k]);
+                if di < d {
+                    d = di;
+                    leaf = ray_leaf[k];
+                }
             }
         }
     }
     if !held {
-        // The march ended where no listed stretch is (a pass by an edge counted as touching
-        // it, within the threshold but outside the padding): the walk answers.
+        // Beyond the list, or where no listed stretch holds the march's end (a pass by an
+        // edge counted as touching it, within the threshold but outside the padding): the
+        // walk answers. One call of it, not one for each case: drivers inline every call
+        // (the 300-shape grid's pipeline built in 0.73 s on lavapipe, 0.92 s with two).
         return scene_nearest(p, below);
     }
     return Nearest(d, leaf);

@@ -40,7 +40,8 @@ fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
 // bracket. If the distance grows again while still positive, the ray passes the surface by
 // within the threshold without meeting it: that is no hit, and marching goes on (`hit`
 // false) from the last sample, or from the end of the stretch the samples' unbounding
-// spheres cover where that is further. A ray that starts inside a shape (d0 <= 0 at t0 = 0)
+// spheres cover where that is further, but never beyond a gap longer than the threshold that
+// a secant step left unsampled (see `gap`). A ray that starts inside a shape (d0 <= 0 at t0 = 0)
 // hits at t = 0; t never goes behind its origin.
 //
 // A secant step is a bet that the field is straight. It is not taken when its sample leaves
@@ -75,6 +76,13 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
     var tp = t0;
     var dp = d0;
     var reach = t0 + d0;
+    // Where the first gap longer than the threshold that a secant step left unsampled begins
+    // (3e38: none). Such a step is taken as a bet that the samples close in on a surface
+    // (its distance fell below a tenth of the last); if they pass one by instead, the
+    // gap is unexplored, and marching goes on from its start: a secant from a sample near
+    // one shape to one near another skipped a shape between them whole (a hole in the
+    // 300-shape grid from close by, docs/performance.md).
+    var gap = 3.0e38;
     var dmin = d0;
     // The longest secant step, in plain steps.
     var cap = 256.0;
@@ -99,7 +107,7 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
             let slope = d - dp;
             if slope >= 0.0 && dmin > 0.01 * eps {
                 // Closest approach passed without a crossing: no surface here.
-                return Hit(max(reach, t), steps, false);
+                return Hit(min(max(reach, t), gap), steps, false);
             }
             let secant = t - d * (t - tp) / slope;
             if slope < 0.0 && secant > next {
@@ -122,6 +130,9 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
             tp = tq;
             dp = dq;
             continue;
+        }
+        if secant_step && t - abs(d) > tp + dp + eps {
+            gap = min(gap, tp + dp);
         }
         cap = min(4.0 * cap, 256.0);
         if d > 0.0 {
@@ -156,7 +167,7 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
     if !bracketed && dmin > 0.01 * eps {
         // Out of iterations in front of the surface, never within a hundredth of the
         // threshold: no crossing found yet, so marching goes on.
-        return Hit(max(reach, t), steps, false);
+        return Hit(min(max(reach, t), gap), steps, false);
     }
     return Hit(t, steps, true);
 }

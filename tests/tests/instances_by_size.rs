@@ -27,13 +27,18 @@ fn by_default_a_union_is_data_from_the_threshold_up() {
     let at = compiled(AUTO_INSTANCES, &Options::default());
     assert!(as_data(&at), "{AUTO_INSTANCES} instances emitted as code");
     // Every instance has a record of at least three vec4 (48 bytes), and the WGSL no longer
-    // holds one block per shape: it is smaller than the code form of the smaller grid.
+    // holds one block per shape: it is smaller than the code form of the smaller grid, and
+    // a grid ten times as large has the same WGSL but for its bounds' numbers (the same
+    // kinds of shape and materials).
     assert!(
         at.data.len() >= AUTO_INSTANCES * 48,
         "{} bytes",
         at.data.len()
     );
-    assert!(at.wgsl.len() * 4 < below.wgsl.len());
+    assert!(at.wgsl.len() < below.wgsl.len());
+    let larger = compiled(10 * AUTO_INSTANCES, &Options::default());
+    assert!(as_data(&larger) && larger.data.len() > 9 * at.data.len());
+    assert!(larger.wgsl.len() * 100 < at.wgsl.len() * 101);
     // Asked for, a union of any size from 16 up is data.
     let always = Options {
         instances: Instances::Always,

@@ -7,7 +7,7 @@
 mod common;
 
 use common::against_reference::{render_against_reference, Compared};
-use common::{compile, renderer};
+use common::{compile_with, renderer};
 use sdfc_reference::metrics::is_silhouette;
 
 const W: u32 = 64;
@@ -21,7 +21,13 @@ fn a_150_shape_union_picks_its_materials_by_index() {
         "camera { position: [0, 20, 60], target: [0, 0, 0], fov: 50deg }",
         "camera { position: [-5, 5, 6], target: [-4, 1.5, -3], fov: 60deg }",
     );
-    let compiled = compile(name, &source);
+    // The union as code: by default a union this large is read as data
+    // (`sdfc_wgsl::AUTO_INSTANCES`), whose materials come from its records instead.
+    let code = sdfc_wgsl::Options {
+        instances: sdfc_wgsl::Instances::Never,
+        ..sdfc_wgsl::Options::default()
+    };
+    let compiled = compile_with(name, &source, &code);
     assert!(
         compiled.wgsl.contains("let k0 = select("),
         "{name}: the material is no longer picked by index; pick a scene where it is"

@@ -36,14 +36,15 @@ pub enum Instances {
     Never,
 }
 
-/// The size from which [`Instances::Auto`] reads a union as data. On lavapipe the data form
-/// (its rays' lists) drew a 1 000-shape grid 7.2x faster than its code from close by and
-/// built its pipeline in about a second against 2 to 5 s; the 300-shape grid 2.6x to 2.7x
-/// faster, but its pipeline took 1.0 s to build against 0.4 s as code, so smaller unions stay
-/// code. Code's build time grows with the shapes on every driver measured (the H200's took
-/// 3.4 s for 300 shapes, more than four minutes for 5 000). docs/performance.md, "Data by
-/// default" and "Culling per ray".
-pub const AUTO_INSTANCES: usize = 1000;
+/// The size from which [`Instances::Auto`] reads a union as data. The data form's pipeline is
+/// the same size whatever the count (0.6 s to build on lavapipe), the code's grows with the
+/// shapes on every driver measured (lavapipe 0.4 s for 300 shapes, the H200 3.4 s, more than
+/// four minutes for 5 000), and with its rays' lists the data form draws faster (the
+/// 300-shape grid 3.5x to 4.4x on lavapipe). `sdfc render` at its default 512x512 on
+/// lavapipe, Mesa's cache off, took as long either way at 130 to 160 shapes (code 0.62 to
+/// 0.93 s, data 0.68 to 0.80 s), and with the cache warm the data form was 1.5x to 2.5x
+/// faster from 100 shapes up. docs/performance.md, "Data by default" and "From 150 shapes".
+pub const AUTO_INSTANCES: usize = 150;
 
 impl Options {
     /// The fewest instances these options read as data, or `None` for code.

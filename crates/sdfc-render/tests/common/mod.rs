@@ -54,7 +54,12 @@ fn skip_notice(reason: &str) {
 
 /// Compiles a scene, failing the test with the diagnostics if it does not compile.
 pub fn compile(name: &str, source: &str) -> sdfc_wgsl::Compiled {
-    match sdfc_wgsl::compile(source, &sdfc_wgsl::Options::default()) {
+    compile_with(name, source, &sdfc_wgsl::Options::default())
+}
+
+/// [`compile`] with `opts`.
+pub fn compile_with(name: &str, source: &str, opts: &sdfc_wgsl::Options) -> sdfc_wgsl::Compiled {
+    match sdfc_wgsl::compile(source, opts) {
         Ok(c) => c,
         Err(sdfc_wgsl::Failure::Diagnostics(d)) => panic!(
             "{name} does not compile:\n{}",

@@ -221,7 +221,15 @@ fn forms(stem: &str, source: &str, out: &mut BTreeMap<String, String>) {
                 ..Options::default()
             },
         ),
-        // The same text as the plain form unless the root is a union of instances.
+        // The same text as the plain form unless the root is a union of instances: by
+        // default one of `AUTO_INSTANCES` or more is data, and asked for, from 16.
+        (
+            "code",
+            Options {
+                instances: sdfc_wgsl::Instances::Never,
+                ..Options::default()
+            },
+        ),
         (
             "instances",
             Options {

@@ -125,14 +125,14 @@ fn find_in(
     let mut rest = Vec::new();
     for &child in children {
         let found = instance(scene, analysis, root, child, &outer, &mut memo);
-        let Some((prim, values, f, b, q, c)) = found else {
+        let Some(found) = found else {
             if !mixed {
                 return None;
             }
             rest.push(child);
             continue;
         };
-        let key = (prim, values.iter().map(|v| v.ty()).collect());
+        let key = (found.prim, found.args.iter().map(|v| v.ty()).collect());
         let template = match templates.iter().position(|k| *k == key) {
             Some(i) => i as u32,
             None => {
@@ -140,15 +140,16 @@ fn find_in(
                 (templates.len() - 1) as u32
             }
         };
+        let (b, c) = (&found.bounds, found.centre);
         items.push(Instance {
             template,
-            args: values,
-            material: f.material.unwrap_or(0),
-            q,
+            material: found.material,
+            q: found.q,
             centre: [0, 1, 2].map(|a| c[a] - origin[a]),
-            scale: f.s,
+            scale: found.scale,
             lo: [0, 1, 2].map(|a| b.lo[a] - origin[a]),
             hi: [0, 1, 2].map(|a| b.hi[a] - origin[a]),
+            args: found.args,
         });
     }
     if items.len() < min {
@@ -164,9 +165,17 @@ fn find_in(
     })
 }
 
-/// What [`instance`] finds: the primitive, its constant arguments, the frame, the box, the
-/// turn as a quaternion and the centre.
-type Found = (Prim, Vec<Value<f64>>, Frame, Aabb, [f64; 4], [f64; 3]);
+/// What [`instance`] finds, in world coordinates: an instance is its primitive with these
+/// arguments at `turn(q, p - centre) / scale`, its distance times `scale`.
+struct Found {
+    prim: Prim,
+    args: Vec<Value<f64>>,
+    material: u32,
+    scale: f64,
+    q: [f64; 4],
+    centre: [f64; 3],
+    bounds: Aabb,
+}
 
 /// One child of the union as an instance; `None` where it is not one.
 fn instance(
@@ -210,9 +219,15 @@ fn instance(
     }
     // Turns only (a mirror or a shear has no quaternion): m p + o = m (p - c) with
     // c = -m^-1 o.
-    let q = quaternion(&f.m)?;
-    let c = mat_vec(&inverse(&f.m)?, &f.o).map(|x| -x);
-    Some((*prim, values, f, b, q, c))
+    Some(Found {
+        prim: *prim,
+        args: values,
+        material: f.material.unwrap_or(0),
+        scale: f.s,
+        q: quaternion(&f.m)?,
+        centre: mat_vec(&inverse(&f.m)?, &f.o).map(|x| -x),
+        bounds: b,
+    })
 }
 
 /// The frame a shape is evaluated in: `local = (m p + o) / s`, the distance times `s`; and

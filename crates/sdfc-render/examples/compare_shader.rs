@@ -22,6 +22,11 @@ type Error = Box<dyn std::error::Error>;
 /// A shader's text and the data it reads at binding 3, if any.
 type Shader = (String, Option<Vec<u8>>);
 
+/// Whether the environment variable `name` is `1` (what the comparison also prints).
+fn set(name: &str) -> bool {
+    std::env::var(name).is_ok_and(|v| v == "1")
+}
+
 /// The grid's own camera sees it from 60 away, where most rays miss its bounds; from close
 /// by every ray marches through the shapes, which is what the experiment measures.
 fn close_grid(n: usize) -> Result<String, Error> {
@@ -163,7 +168,7 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
         .filter(|(x, y)| x.is_finite() && y.is_finite())
         .map(|(x, y)| ((x - y).abs() / x.abs().max(1e-6)) as f64)
         .collect();
-    if std::env::var("SDFC_COMPARE_PIXELS").is_ok_and(|v| v == "1") {
+    if set("SDFC_COMPARE_PIXELS") {
         // The pixels whose depths differ by more than 1e-3 relative, or hit and miss.
         let width = opts.width as usize;
         for (i, (x, y)) in da.iter().zip(db).enumerate() {
@@ -177,7 +182,7 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     println!(
         "difference: {off} channels off by more than 2/255, {hit_miss} hit/miss, depth p99.9 {p999:.2e} relative"
     );
-    if std::env::var("SDFC_COMPARE_REFERENCE").is_ok_and(|v| v == "1") {
+    if set("SDFC_COMPARE_REFERENCE") {
         against_reference(&compiled, &shaders, &frames, &opts);
     }
     Ok(())
@@ -222,7 +227,7 @@ fn against_reference(
             m.normal_median_deg,
             m.psnr_db
         );
-        if std::env::var("SDFC_COMPARE_PIXELS").is_ok_and(|v| v == "1") {
+        if set("SDFC_COMPARE_PIXELS") {
             // The pixels whose depth differs from the reference's by more than 1e-3 relative,
             // or that hit where it misses or the other way, with both colours.
             for (i, (r, &d)) in reference.pixels.iter().zip(&a.depth).enumerate() {

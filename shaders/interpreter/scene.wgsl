@@ -20,6 +20,15 @@ fn surface_epsilon(t: f32, pixel: f32) -> f32 {
     return frame.epsilon;
 }
 
+// How near a ray that passes a surface by must come to count as touching it: finely for an
+// exact distance, a hundredth of the threshold for a bound (see the specialised shader's).
+fn touch_distance(t: f32, eps: f32) -> f32 {
+    if (frame.switches & 4u) != 0u {
+        return min(0.01 * eps, 1e-6 * max(t, 1.0));
+    }
+    return 0.01 * eps;
+}
+
 // The three difference normals of shaders/normals in one loop, the method chosen by
 // `frame.normals` (1 central, 2 forward, else tetrahedron): the interpreter is inlined at one
 // call here instead of three. Each method samples and sums as its own part does.

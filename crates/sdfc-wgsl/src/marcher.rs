@@ -23,6 +23,9 @@ pub struct View<'a> {
     /// the instances its ray passes and samples `march_distance`, and the normals sample
     /// `normal_distance` near the march's end (shadows and AO keep `scene_distance`).
     pub ray_lists: bool,
+    /// Whether the scene's distance is exact (the analysis's root, `Exactness::Exact`): a
+    /// pass by its surface is then told from a touch far more finely (`touch_distance`).
+    pub exact: bool,
 }
 
 /// How the march's and the hit refinement's parts sample the ray; a test checks that each
@@ -64,6 +67,8 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += &ray_span(view);
     s += "\n";
     s += &surface_epsilon(scene);
+    s += "\n";
+    s += touch_distance(view.exact);
     s += "\n";
     let march = sampled(
         if scene.render.relaxation > 1.0 {
@@ -225,6 +230,14 @@ pub fn root_bounds(p: &sdfc_ir::Program) -> ([f64; 3], [f64; 3]) {
         })
 }
 
+/// Whether the scene's distance is exact (the analysis of its root).
+pub fn root_exact(p: &sdfc_ir::Program) -> bool {
+    p.analysis
+        .nodes
+        .get(p.scene.root.index())
+        .is_some_and(|n| n.exactness == sdfc_ir::analysis::Exactness::Exact)
+}
+
 /// The slabs `ray_span` clips rays to: per axis, `Some((lo, hi))` in shader coordinates
 /// (`origin` subtracted) where the scene's bounds are finite, each padded by a thousandth of
 /// the box's size (and at least 1e-3) so that f32 rounding of the slab test never cuts a
@@ -300,6 +313,21 @@ fn surface_epsilon(scene: &Scene) -> String {
             float(e),
             float(e)
         ),
+    }
+}
+
+/// `touch_distance`: how near a ray that passes a surface by without crossing it must come
+/// to count as touching it (`refine`). For an exact distance the samples' rise after their
+/// minimum proves a pass, so only f32 rounding (a few steps of t) counts as touching; a bound
+/// may rise while the surface is still ahead (the fractals' estimators do), and there a
+/// hundredth of the surface threshold, as before, still catches what the field blurs.
+fn touch_distance(exact: bool) -> &'static str {
+    if exact {
+        "// An exact distance: a pass by the surface closer than rounding counts as touching.\n\
+         fn touch_distance(t: f32, eps: f32) -> f32 {\n    return min(0.01 * eps, 1e-6 * max(t, 1.0));\n}\n"
+    } else {
+        "// A bound: a pass within a hundredth of the threshold counts as touching.\n\
+         fn touch_distance(t: f32, eps: f32) -> f32 {\n    return 0.01 * eps;\n}\n"
     }
 }
 
@@ -390,6 +418,7 @@ mod tests {
             along_ray,
             bounds: ([0.0; 3], [0.0; 3]),
             ray_lists,
+            exact: true,
         }
     }
 

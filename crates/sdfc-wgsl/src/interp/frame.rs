@@ -16,6 +16,8 @@ pub const FRAME_BYTES: usize = 208;
 const SWITCH_EPSILON_PIXEL: u32 = 1;
 /// `Frame.switches` bit: exponential fog.
 const SWITCH_FOG: u32 = 2;
+/// `Frame.switches` bit: the scene's distance is exact (`touch_distance`).
+const SWITCH_EXACT: u32 = 4;
 
 /// Both buffers of one frame.
 pub struct FrameData {
@@ -178,6 +180,9 @@ pub fn frame_data_with(
     }
     if r.fog.is_some() {
         switches |= SWITCH_FOG;
+    }
+    if crate::marcher::root_exact(program) {
+        switches |= SWITCH_EXACT;
     }
     w.u(switches);
     w.u(code.distance[0]);

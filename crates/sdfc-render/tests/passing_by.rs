@@ -5,9 +5,9 @@
 //! For an exact distance the refinement tells the pass by the samples' rise after their
 //! minimum and the pixel misses, as the f64 reference does (it had hit 0.73 beyond the closest
 //! approach, where the ray is 0.24 from the sphere). For a bound (`sdf(...)`) a rise does not
-//! prove a pass (the mandelbulb's estimator rises while its surface is still ahead), and such a
-//! pass still counts as touching, at the sample nearest the surface. The interpreter decides both as the specialised shader does
-//! (its `Frame.switches` bit for exactness).
+//! prove a pass (the mandelbulb's estimator rises while its surface is still ahead), and such
+//! a pass still counts as touching, at the sample nearest the surface. The interpreter
+//! decides both as the specialised shader does (its `Frame.switches` bit for exactness).
 
 mod common;
 

@@ -59,7 +59,7 @@ fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
 // nearest the surface. In the crevice where two surfaces touch, or where the distance's
 // rounding noise is as large as the threshold, passing by would crawl on in tiny steps until
 // the step budget runs out. A pass told by the samples' rise after their minimum is decided
-// by `touch_distance` instead (finer for an exact distance).
+// by `touch_distance` instead (finer for a trusted distance).
 fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32) -> Hit {
     var steps = steps0;
     if d0 <= 0.0 && t0 <= 0.0 {
@@ -110,11 +110,11 @@ fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32)
             let slope = d - dp;
             if slope >= 0.0 && dmin > touch_distance(t, eps) {
                 // Closest approach passed without a crossing: no surface here. Nearer than
-                // `touch_distance` the samples go on and the ray counts as touching: for an
-                // exact distance only rounding's few steps of t (a hundredth of the pixel
+                // `touch_distance` the samples go on and the ray counts as touching: for a
+                // trusted distance only rounding's few steps of t (a hundredth of the pixel
                 // threshold made false hits at silhouettes: 19 in the 300-shape grid from
-                // close by at 256x192), for a bound a hundredth of the threshold (the
-                // mandelbulb's estimator rises while its surface is still ahead).
+                // close by at 256x192), for an estimate a hundredth of the threshold (the
+                // mandelbulb's rises while its surface is still ahead).
                 return Hit(min(max(reach, t), gap), steps, false);
             }
             let secant = t - d * (t - tp) / slope;

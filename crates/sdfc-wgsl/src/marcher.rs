@@ -23,9 +23,10 @@ pub struct View<'a> {
     /// the instances its ray passes and samples `march_distance`, and the normals sample
     /// `normal_distance` near the march's end (shadows and AO keep `scene_distance`).
     pub ray_lists: bool,
-    /// Whether the scene's distance is exact (the analysis's root, `Exactness::Exact`): a
-    /// pass by its surface is then told from a touch far more finely (`touch_distance`).
-    pub exact: bool,
+    /// Whether the scene's distance is trusted never to exceed the true distance
+    /// ([`distance_trusted`]): a pass by its surface is then told from a touch far more
+    /// finely (`touch_distance`).
+    pub trusted: bool,
 }
 
 /// How the march's and the hit refinement's parts sample the ray; a test checks that each
@@ -68,7 +69,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
-    s += touch_distance(view.exact);
+    s += touch_distance(view.trusted);
     s += "\n";
     let march = sampled(
         if scene.render.relaxation > 1.0 {
@@ -230,12 +231,26 @@ pub fn root_bounds(p: &sdfc_ir::Program) -> ([f64; 3], [f64; 3]) {
         })
 }
 
-/// Whether the scene's distance is exact (the analysis of its root).
-pub fn root_exact(p: &sdfc_ir::Program) -> bool {
-    p.analysis
-        .nodes
-        .get(p.scene.root.index())
-        .is_some_and(|n| n.exactness == sdfc_ir::analysis::Exactness::Exact)
+/// Whether the scene's distance is trusted never to exceed the true distance: exact, or a
+/// bound that the language's operators make or the compiler derived or checked. Not where
+/// the analysis finds neither, nor with a mandelbulb (its distance is the usual estimate,
+/// not a proven bound) or an `sdf` without a declared `lipschitz:` (L = 1 by default, a
+/// claim nobody made). A rise of a trusted distance after its minimum proves that the ray
+/// passed its surface by.
+pub fn distance_trusted(p: &sdfc_ir::Program) -> bool {
+    use sdfc_ir::analysis::{Exactness, Source};
+    use sdfc_ir::shape::{Prim, ShapeKind};
+    let root = p.analysis.nodes.get(p.scene.root.index());
+    let estimated = p.scene.shapes.iter().zip(&p.analysis.nodes).any(|(s, n)| {
+        matches!(
+            s.kind,
+            ShapeKind::Prim {
+                prim: Prim::Mandelbulb,
+                ..
+            }
+        ) || (matches!(s.kind, ShapeKind::Sdf { .. }) && n.source == Some(Source::Default))
+    });
+    root.is_some_and(|n| n.exactness != Exactness::Neither) && !estimated
 }
 
 /// The slabs `ray_span` clips rays to: per axis, `Some((lo, hi))` in shader coordinates
@@ -317,16 +332,17 @@ fn surface_epsilon(scene: &Scene) -> String {
 }
 
 /// `touch_distance`: how near a ray that passes a surface by without crossing it must come
-/// to count as touching it (`refine`). For an exact distance the samples' rise after their
-/// minimum proves a pass, so only f32 rounding (a few steps of t) counts as touching; a bound
-/// may rise while the surface is still ahead (the fractals' estimators do), and there a
-/// hundredth of the surface threshold, as before, still catches what the field blurs.
-fn touch_distance(exact: bool) -> &'static str {
-    if exact {
-        "// An exact distance: a pass by the surface closer than rounding counts as touching.\n\
+/// to count as touching it (`refine`). For a trusted distance ([`distance_trusted`]) the
+/// samples' rise after their minimum proves a pass, so only f32 rounding (a few steps of t)
+/// counts as touching; an estimate may rise while the surface is still ahead (the
+/// mandelbulb's does), and there a hundredth of the surface threshold, as before, still
+/// catches what the field blurs.
+fn touch_distance(trusted: bool) -> &'static str {
+    if trusted {
+        "// A trusted distance: a pass by the surface closer than rounding counts as touching.\n\
          fn touch_distance(t: f32, eps: f32) -> f32 {\n    return min(0.01 * eps, 1e-6 * max(t, 1.0));\n}\n"
     } else {
-        "// A bound: a pass within a hundredth of the threshold counts as touching.\n\
+        "// An estimated distance: a pass within a hundredth of the threshold counts as touching.\n\
          fn touch_distance(t: f32, eps: f32) -> f32 {\n    return 0.01 * eps;\n}\n"
     }
 }
@@ -418,7 +434,7 @@ mod tests {
             along_ray,
             bounds: ([0.0; 3], [0.0; 3]),
             ray_lists,
-            exact: true,
+            trusted: true,
         }
     }
 

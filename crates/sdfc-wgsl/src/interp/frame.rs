@@ -16,8 +16,8 @@ pub const FRAME_BYTES: usize = 208;
 const SWITCH_EPSILON_PIXEL: u32 = 1;
 /// `Frame.switches` bit: exponential fog.
 const SWITCH_FOG: u32 = 2;
-/// `Frame.switches` bit: the scene's distance is exact (`touch_distance`).
-const SWITCH_EXACT: u32 = 4;
+/// `Frame.switches` bit: the scene's distance is trusted (`touch_distance`).
+const SWITCH_TRUSTED: u32 = 4;
 
 /// Both buffers of one frame.
 pub struct FrameData {
@@ -181,8 +181,8 @@ pub fn frame_data_with(
     if r.fog.is_some() {
         switches |= SWITCH_FOG;
     }
-    if crate::marcher::root_exact(program) {
-        switches |= SWITCH_EXACT;
+    if crate::marcher::distance_trusted(program) {
+        switches |= SWITCH_TRUSTED;
     }
     w.u(switches);
     w.u(code.distance[0]);

@@ -233,14 +233,13 @@ pub fn root_bounds(p: &sdfc_ir::Program) -> ([f64; 3], [f64; 3]) {
 
 /// Whether the scene's distance is trusted never to exceed the true distance: exact, or a
 /// bound that the language's operators make or the compiler derived or checked. Not where
-/// the analysis finds neither, nor with a mandelbulb (its distance is the usual estimate,
+/// the analysis finds neither at any node, nor with a mandelbulb (its distance is the usual estimate,
 /// not a proven bound) or an `sdf` without a declared `lipschitz:` (L = 1 by default, a
 /// claim nobody made). A rise of a trusted distance after its minimum proves that the ray
 /// passed its surface by.
 pub fn distance_trusted(p: &sdfc_ir::Program) -> bool {
     use sdfc_ir::analysis::{Exactness, Source};
     use sdfc_ir::shape::{Prim, ShapeKind};
-    let root = p.analysis.nodes.get(p.scene.root.index());
     let estimated = p.scene.shapes.iter().zip(&p.analysis.nodes).any(|(s, n)| {
         matches!(
             s.kind,
@@ -249,8 +248,9 @@ pub fn distance_trusted(p: &sdfc_ir::Program) -> bool {
                 ..
             }
         ) || (matches!(s.kind, ShapeKind::Sdf { .. }) && n.source == Some(Source::Default))
+            || n.exactness == Exactness::Neither
     });
-    root.is_some_and(|n| n.exactness != Exactness::Neither) && !estimated
+    p.analysis.nodes.get(p.scene.root.index()).is_some() && !estimated
 }
 
 /// The slabs `ray_span` clips rays to: per axis, `Some((lo, hi))` in shader coordinates

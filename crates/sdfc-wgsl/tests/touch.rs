@@ -49,6 +49,7 @@ fn estimates_are_not_trusted() {
         "box(1) | sdf(|p| p.y + 2)",
         // A repeated shape that does not fit its cell: neither exact nor a bound.
         "sphere(1.5).repeat([2, 0, 2])",
+        "union(sphere(1.5).repeat([2, 0, 2]), box(1), smooth: 0.2)",
     ] {
         assert!(!trusted(shape), "{shape}");
     }

@@ -31,6 +31,19 @@ fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
     return Hit(t, steps, passing && steps >= MAX_STEPS && t <= MAX_DISTANCE);
 }
 
+// How near a ray that passes a surface by without crossing it must come to count as touching
+// it (`refine`). Where the scene's distance is trusted never to exceed the true distance
+// (`distance_trusted()`, from the compiler's analysis) the samples' rise after their minimum
+// proves a pass, so only f32 rounding (a few steps of t) counts; an estimate (the
+// mandelbulb's) may rise while its surface is still ahead, and there a hundredth of the
+// surface threshold still catches what the field blurs.
+fn touch_distance(t: f32, eps: f32) -> f32 {
+    if distance_trusted() {
+        return min(0.01 * eps, 1e-6 * max(t, 1.0));
+    }
+    return 0.01 * eps;
+}
+
 // Refines a hit found within the surface threshold (distance d0 at t0) to the surface itself.
 // In front of the surface (d > 0) each step goes at least the plain step t + d (a distance
 // bound never overestimates, so the surface is at least that far) and follows the secant

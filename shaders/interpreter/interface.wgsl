@@ -32,7 +32,7 @@ struct Frame {
     ao_falloff: f32,
     reflections: u32,
     light_count: u32,
-    // Bit 0: `epsilon: pixel`; bit 1: fog; bit 2: the distance is trusted (`touch_distance`).
+    // Bit 0: `epsilon: pixel`; bit 1: fog; bit 2: the distance is trusted (`distance_trusted()`).
     switches: u32,
     // Instruction ranges [start, end) of the two functions in `code`.
     distance_code: vec2<u32>,

@@ -20,14 +20,10 @@ fn surface_epsilon(t: f32, pixel: f32) -> f32 {
     return frame.epsilon;
 }
 
-// How near a ray that passes a surface by must come to count as touching it: finely for a
-// trusted distance, a hundredth of the threshold for an estimate (see the specialised
-// shader's, and `distance_trusted` in the compiler).
-fn touch_distance(t: f32, eps: f32) -> f32 {
-    if (frame.switches & 4u) != 0u {
-        return min(0.01 * eps, 1e-6 * max(t, 1.0));
-    }
-    return 0.01 * eps;
+// Whether the scene's distance is trusted (`touch_distance` reads it; the compiler's
+// `Analysis::distance_trusted` sets the switch).
+fn distance_trusted() -> bool {
+    return (frame.switches & 4u) != 0u;
 }
 
 // The three difference normals of shaders/normals in one loop, the method chosen by

@@ -108,6 +108,13 @@ impl Prim {
             Prim::Ellipsoid | Prim::Mandelbulb | Prim::Menger | Prim::Sierpinski
         )
     }
+
+    /// True when the primitive's distance is an estimate, not a proven bound: the
+    /// mandelbulb's (see [`Prim::exact`]). Such a distance may rise along a ray while its
+    /// surface is still ahead.
+    pub fn estimate(self) -> bool {
+        self == Prim::Mandelbulb
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

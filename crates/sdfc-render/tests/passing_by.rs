@@ -29,15 +29,14 @@ fn scene(shape: &str) -> String {
 }
 
 /// The centre pixel's depth, specialised and interpreted.
-fn centre_depths(name: &str, source: &str) -> Option<(f32, f32)> {
+fn centre_depths(compiled: &sdfc_wgsl::Compiled) -> Option<(f32, f32)> {
     let r = renderer()?;
-    let compiled = compile(name, source);
     let options = RenderOptions {
         aovs: true,
         ..RenderOptions::sized(SIZE, SIZE)
     };
     let depth = |f: Frame| f.aovs.expect("AOVs were asked for").depth[CENTRE];
-    let spec = r.render(&compiled, &options).expect("specialised");
+    let spec = r.render(compiled, &options).expect("specialised");
     let interp = r
         .render_interpreted(compiled.program(), &options)
         .expect("interpreted");
@@ -47,11 +46,10 @@ fn centre_depths(name: &str, source: &str) -> Option<(f32, f32)> {
 /// Checks that the centre pixel misses on the device, in the interpreter and in the
 /// reference; nothing without a device.
 fn check_miss(name: &str, shape: &str) {
-    let source = scene(shape);
-    let Some((spec, interp)) = centre_depths(name, &source) else {
+    let compiled = compile(name, &scene(shape));
+    let Some((spec, interp)) = centre_depths(&compiled) else {
         return;
     };
-    let compiled = compile(name, &source);
     let reference = sdfc_reference::render(
         compiled.program(),
         &sdfc_reference::Options::sized(SIZE, SIZE),
@@ -84,8 +82,8 @@ fn a_declared_bound_passed_by_is_a_miss() {
 
 #[test]
 fn an_estimate_passed_by_within_a_hundredth_of_the_threshold_touches() {
-    let source = scene("sdf(|p| length(p) - 1)");
-    let Some((spec, interp)) = centre_depths("passing_by_estimate", &source) else {
+    let compiled = compile("passing_by_estimate", &scene("sdf(|p| length(p) - 1)"));
+    let Some((spec, interp)) = centre_depths(&compiled) else {
         return;
     };
     // Touching, at the sample nearest the surface: within 1.4e-3 of it, so within 0.05 of

@@ -24,8 +24,8 @@ pub struct View<'a> {
     /// `normal_distance` near the march's end (shadows and AO keep `scene_distance`).
     pub ray_lists: bool,
     /// Whether the scene's distance is trusted never to exceed the true distance
-    /// ([`distance_trusted`]): a pass by its surface is then told from a touch far more
-    /// finely (`touch_distance`).
+    /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
+    /// more finely (`touch_distance` in `shaders/hit.wgsl`).
     pub trusted: bool,
 }
 
@@ -69,7 +69,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     s += &surface_epsilon(scene);
     s += "\n";
-    s += touch_distance(view.trusted);
+    s += &distance_trusted(view.trusted);
     s += "\n";
     let march = sampled(
         if scene.render.relaxation > 1.0 {
@@ -231,28 +231,6 @@ pub fn root_bounds(p: &sdfc_ir::Program) -> ([f64; 3], [f64; 3]) {
         })
 }
 
-/// Whether the scene's distance is trusted never to exceed the true distance: exact, or a
-/// bound that the language's operators make or the compiler derived or checked. Not where
-/// the analysis finds neither at any node, nor with a mandelbulb (its distance is the usual estimate,
-/// not a proven bound) or an `sdf` without a declared `lipschitz:` (L = 1 by default, a
-/// claim nobody made). A rise of a trusted distance after its minimum proves that the ray
-/// passed its surface by.
-pub fn distance_trusted(p: &sdfc_ir::Program) -> bool {
-    use sdfc_ir::analysis::{Exactness, Source};
-    use sdfc_ir::shape::{Prim, ShapeKind};
-    let estimated = p.scene.shapes.iter().zip(&p.analysis.nodes).any(|(s, n)| {
-        matches!(
-            s.kind,
-            ShapeKind::Prim {
-                prim: Prim::Mandelbulb,
-                ..
-            }
-        ) || (matches!(s.kind, ShapeKind::Sdf { .. }) && n.source == Some(Source::Default))
-            || n.exactness == Exactness::Neither
-    });
-    p.analysis.nodes.get(p.scene.root.index()).is_some() && !estimated
-}
-
 /// The slabs `ray_span` clips rays to: per axis, `Some((lo, hi))` in shader coordinates
 /// (`origin` subtracted) where the scene's bounds are finite, each padded by a thousandth of
 /// the box's size (and at least 1e-3) so that f32 rounding of the slab test never cuts a
@@ -331,20 +309,14 @@ fn surface_epsilon(scene: &Scene) -> String {
     }
 }
 
-/// `touch_distance`: how near a ray that passes a surface by without crossing it must come
-/// to count as touching it (`refine`). For a trusted distance ([`distance_trusted`]) the
-/// samples' rise after their minimum proves a pass, so only f32 rounding (a few steps of t)
-/// counts as touching; an estimate may rise while the surface is still ahead (the
-/// mandelbulb's does), and there a hundredth of the surface threshold, as before, still
-/// catches what the field blurs.
-fn touch_distance(trusted: bool) -> &'static str {
-    if trusted {
-        "// A trusted distance: a pass by the surface closer than rounding counts as touching.\n\
-         fn touch_distance(t: f32, eps: f32) -> f32 {\n    return min(0.01 * eps, 1e-6 * max(t, 1.0));\n}\n"
-    } else {
-        "// An estimated distance: a pass within a hundredth of the threshold counts as touching.\n\
-         fn touch_distance(t: f32, eps: f32) -> f32 {\n    return 0.01 * eps;\n}\n"
-    }
+/// `distance_trusted()`, which `touch_distance` (`shaders/hit.wgsl`) reads: whether the
+/// scene's distance is trusted (`Analysis::distance_trusted`).
+fn distance_trusted(trusted: bool) -> String {
+    format!(
+        "// Whether the scene's distance never exceeds the true distance (exact, or a proven\n\
+         // bound): a pass by its surface is then told from a touch down to rounding.\n\
+         fn distance_trusted() -> bool {{\n    return {trusted};\n}}\n"
+    )
 }
 
 /// Phong shading (spec section 6) for each light of the scene, unrolled; shadows and ambient

@@ -233,7 +233,7 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             along_ray: distance_ray.is_some() && instances.is_none(),
             bounds,
             ray_lists: instances.is_some(),
-            trusted: marcher::distance_trusted(p),
+            trusted: p.analysis.distance_trusted(&p.scene),
         };
         s += &marcher::emit(&p.scene, &view);
     }

@@ -1,4 +1,5 @@
-//! Which scenes get the fine pass-by rule (`touch_distance`, `marcher::distance_trusted`):
+//! Which scenes get the fine pass-by rule (`touch_distance` in `shaders/hit.wgsl`, through
+//! `distance_trusted()`, from `Analysis::distance_trusted`):
 //! exact distances and the bounds the compiler makes, derives or checks, and not the
 //! estimates (the mandelbulb's, an `sdf` with no declared `lipschitz:`, a repeated shape
 //! that does not fit its cell). The interpreter's
@@ -7,18 +8,17 @@
 
 use sdfc_wgsl::{compile, Options};
 
-/// Whether the scene's shader has the trusted `touch_distance`.
+/// Whether the scene's shader says its distance is trusted.
 fn trusted(shape: &str) -> bool {
     let source = format!("scene = {shape};\n");
     let wgsl = compile(&source, &Options::default())
         .unwrap_or_else(|f| panic!("{shape}: {f}"))
         .wgsl;
-    let fine = wgsl.contains("return min(0.01 * eps, 1e-6 * max(t, 1.0));");
-    let coarse =
-        wgsl.contains("fn touch_distance(t: f32, eps: f32) -> f32 {\n    return 0.01 * eps;");
+    let fine = wgsl.contains("fn distance_trusted() -> bool {\n    return true;");
+    let coarse = wgsl.contains("fn distance_trusted() -> bool {\n    return false;");
     assert!(
         fine != coarse,
-        "{shape}: one touch_distance, of either kind"
+        "{shape}: one distance_trusted, true or false"
     );
     fine
 }

@@ -91,6 +91,23 @@ pub struct Analysis {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+impl Analysis {
+    /// Whether the scene's distance is trusted never to exceed the true distance: exact, or
+    /// a bound that the language's operators make or the compiler derives or checks. Not
+    /// where any node is neither, nor with an estimated primitive (`Prim::estimate`: the
+    /// mandelbulb's) or an `sdf` without a declared `lipschitz:` (L = 1 by default, a claim
+    /// nobody made). A rise of a trusted distance along a ray after its minimum proves that
+    /// the ray passed its surface by.
+    pub fn distance_trusted(&self, scene: &Scene) -> bool {
+        let estimated = scene.shapes.iter().zip(&self.nodes).any(|(s, n)| match &s.kind {
+            ShapeKind::Prim { prim, .. } => prim.estimate(),
+            ShapeKind::Sdf { .. } => n.source == Some(Source::Default),
+            _ => false,
+        } || n.exactness == Exactness::Neither);
+        !self.nodes.is_empty() && !estimated
+    }
+}
+
 /// How far the sampling check reaches on unbounded axes.
 pub const DEFAULT_REGION: f64 = 4.0;
 

@@ -16,7 +16,7 @@ pub const FRAME_BYTES: usize = 208;
 const SWITCH_EPSILON_PIXEL: u32 = 1;
 /// `Frame.switches` bit: exponential fog.
 const SWITCH_FOG: u32 = 2;
-/// `Frame.switches` bit: the scene's distance is trusted (`touch_distance`).
+/// `Frame.switches` bit: the scene's distance is trusted (`distance_trusted()`).
 const SWITCH_TRUSTED: u32 = 4;
 
 /// Both buffers of one frame.
@@ -181,7 +181,7 @@ pub fn frame_data_with(
     if r.fog.is_some() {
         switches |= SWITCH_FOG;
     }
-    if crate::marcher::distance_trusted(program) {
+    if program.analysis.distance_trusted(&program.scene) {
         switches |= SWITCH_TRUSTED;
     }
     w.u(switches);

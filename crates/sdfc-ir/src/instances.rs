@@ -427,8 +427,10 @@ fn inverse(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
     Some([0, 1, 2].map(|col| [0, 1, 2].map(|row| cof(col, row) / det)))
 }
 
-/// The hierarchy over the instances' boxes: median splits along the longest axis of their
-/// centres, one instance per leaf.
+/// The hierarchy over the instances' boxes, one instance per leaf: each node split where the
+/// surface area heuristic says a ray meets fewest boxes (`sah_split`), or at the median of
+/// the longest axis of the centres where it finds no split; the child nearer the frame's
+/// origin (the camera, where the renderer marches in its frame) first.
 fn hierarchy(items: &[Instance]) -> Vec<Node> {
     let mut nodes = Vec::with_capacity(2 * items.len());
     let mut idx: Vec<u32> = (0..items.len() as u32).collect();
@@ -436,16 +438,22 @@ fn hierarchy(items: &[Instance]) -> Vec<Node> {
     nodes
 }
 
-fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
-    let me = nodes.len();
+/// The box around the instances `idx`.
+fn bounds_of(items: &[Instance], idx: &[u32]) -> ([f64; 3], [f64; 3]) {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for &i in idx.iter() {
+    for &i in idx {
         let it = &items[i as usize];
         for a in 0..3 {
             lo[a] = lo[a].min(it.lo[a]);
             hi[a] = hi[a].max(it.hi[a]);
         }
     }
+    (lo, hi)
+}
+
+fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
+    let me = nodes.len();
+    let (lo, hi) = bounds_of(items, idx);
     let centre = [0, 1, 2].map(|a| 0.5 * (lo[a] + hi[a]));
     let half = [0, 1, 2].map(|a| 0.5 * (hi[a] - lo[a]) * (1.0 + PAD) + PAD);
     nodes.push(Node {
@@ -455,24 +463,120 @@ fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
         leaf: (idx.len() == 1).then_some(idx[0]),
     });
     if idx.len() > 1 {
-        let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
-        let extent = [0, 1, 2].map(|a| {
-            let (mn, mx) = idx
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
-                    (mn.min(mid(i, a)), mx.max(mid(i, a)))
-                });
-            mx - mn
-        });
-        let axis = (0..3).fold(0, |best, a| if extent[a] > extent[best] { a } else { best });
-        // Stable, so that equal centres keep the union's order.
-        idx.sort_by(|&x, &y| mid(x, axis).total_cmp(&mid(y, axis)));
-        let half_len = idx.len() / 2;
-        let (left, right) = idx.split_at_mut(half_len);
-        build(items, left, nodes);
-        build(items, right, nodes);
+        let k = sah_split(items, idx).unwrap_or_else(|| median_split(items, idx));
+        let (left, right) = idx.split_at_mut(k);
+        // Nearer the origin first: from the camera a ray's walk then meets the instances
+        // roughly in the order it lists them, so its insertion sort seldom shifts.
+        if box_distance(items, right) < box_distance(items, left) {
+            build(items, right, nodes);
+            build(items, left, nodes);
+        } else {
+            build(items, left, nodes);
+            build(items, right, nodes);
+        }
     }
     nodes[me].skip = nodes.len() as u32;
+}
+
+/// How far the box around the instances `idx` is from the frame's origin.
+fn box_distance(items: &[Instance], idx: &[u32]) -> f64 {
+    let (lo, hi) = bounds_of(items, idx);
+    let d = [0, 1, 2].map(|a| (lo[a].max(0.0) + (-hi[a]).max(0.0)).max(0.0));
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+}
+
+/// A box's surface area over 2, from its extent: the share of random rays that meet it.
+fn area(lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
+    let e = [0, 1, 2].map(|a| (hi[a] - lo[a]).max(0.0));
+    e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+}
+
+/// Bins of the surface area heuristic on each axis.
+const BINS: usize = 32;
+
+/// Splits `idx` (reordering it) where the surface area heuristic is lowest over BINS bins of
+/// the centres on each axis: the children's areas times their counts, the expected number
+/// of boxes a ray through the node meets below it. Returns the left child's length, or
+/// `None` where every centre falls in one bin on every axis. Binning is linear in the
+/// instances, so the 5 000-shape union builds as fast as with the median (a sort a level).
+fn sah_split(items: &[Instance], idx: &mut [u32]) -> Option<usize> {
+    let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
+    let mut best: Option<(f64, usize, usize, f64, f64)> = None;
+    for a in 0..3 {
+        let (mn, mx) = idx
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
+                (mn.min(mid(i, a)), mx.max(mid(i, a)))
+            });
+        if !(mx > mn) {
+            continue;
+        }
+        let scale = BINS as f64 / (mx - mn);
+        let bin = |i: u32| (((mid(i, a) - mn) * scale) as usize).min(BINS - 1);
+        let mut count = [0usize; BINS];
+        let mut blo = [[f64::INFINITY; 3]; BINS];
+        let mut bhi = [[f64::NEG_INFINITY; 3]; BINS];
+        for &i in idx.iter() {
+            let (b, it) = (bin(i), &items[i as usize]);
+            count[b] += 1;
+            for c in 0..3 {
+                blo[b][c] = blo[b][c].min(it.lo[c]);
+                bhi[b][c] = bhi[b][c].max(it.hi[c]);
+            }
+        }
+        // Suffix areas and counts, then a sweep from the left.
+        let mut right_area = [0.0; BINS];
+        let mut right_count = [0usize; BINS];
+        let (mut lo, mut hi, mut n) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+        for b in (1..BINS).rev() {
+            for c in 0..3 {
+                lo[c] = lo[c].min(blo[b][c]);
+                hi[c] = hi[c].max(bhi[b][c]);
+            }
+            n += count[b];
+            right_area[b] = area(&lo, &hi);
+            right_count[b] = n;
+        }
+        let (mut lo, mut hi, mut n) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+        for b in 0..BINS - 1 {
+            for c in 0..3 {
+                lo[c] = lo[c].min(blo[b][c]);
+                hi[c] = hi[c].max(bhi[b][c]);
+            }
+            n += count[b];
+            let rn = right_count[b + 1];
+            if n == 0 || rn == 0 {
+                continue;
+            }
+            let cost = area(&lo, &hi) * n as f64 + right_area[b + 1] * rn as f64;
+            if best.is_none_or(|(c, ..)| cost < c) {
+                best = Some((cost, a, b, mn, scale));
+            }
+        }
+    }
+    let (_, a, split, mn, scale) = best?;
+    let bin = |i: u32| (((mid(i, a) - mn) * scale) as usize).min(BINS - 1);
+    // Stable, so that the union's order holds within each side.
+    idx.sort_by_key(|&i| bin(i) > split);
+    Some(idx.iter().take_while(|&&i| bin(i) <= split).count())
+}
+
+/// Splits `idx` (reordering it) at the median of the longest axis of the centres; returns the
+/// left child's length.
+fn median_split(items: &[Instance], idx: &mut [u32]) -> usize {
+    let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
+    let extent = [0, 1, 2].map(|a| {
+        let (mn, mx) = idx
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
+                (mn.min(mid(i, a)), mx.max(mid(i, a)))
+            });
+        mx - mn
+    });
+    let axis = (0..3).fold(0, |best, a| if extent[a] > extent[best] { a } else { best });
+    // Stable, so that equal centres keep the union's order.
+    idx.sort_by(|&x, &y| mid(x, axis).total_cmp(&mid(y, axis)));
+    idx.len() / 2
 }
 
 #[cfg(test)]

@@ -153,6 +153,74 @@ fn the_hierarchy_holds_each_instance_once_in_nested_boxes() {
     }
 }
 
+/// A 7 x 7 grid of spheres 1.5 apart in x and y: a median split of its 49 centres along x
+/// cuts a column in two, so that the children's boxes overlap there.
+fn grid_of_spheres() -> String {
+    let mut s = String::from("scene = union(\n");
+    for i in 0..49 {
+        s += &format!(
+            "    sphere(0.4).translate([{}, {}, 0]),\n",
+            1.5 * (i % 7) as f64,
+            1.5 * (i / 7) as f64
+        );
+    }
+    s + ");\n"
+}
+
+/// The node's two children (depth-first order: the first follows it, the second follows
+/// the first's subtree).
+fn children(f: &Instances, i: usize) -> Option<(usize, usize)> {
+    f.nodes[i]
+        .leaf
+        .is_none()
+        .then(|| (i + 1, f.nodes[i + 1].skip as usize))
+}
+
+#[test]
+fn the_hierarchy_splits_between_rows_not_through_them() {
+    // The surface area heuristic puts each split between columns or rows of the grid: no
+    // two siblings' boxes overlap, so a ray along a row's gap meets neither.
+    let (_, f) = found(&grid_of_spheres()).expect("found");
+    for i in 0..f.nodes.len() {
+        let Some((a, b)) = children(&f, i) else {
+            continue;
+        };
+        let (na, nb) = (&f.nodes[a], &f.nodes[b]);
+        let apart = (0..3).any(|k| (na.centre[k] - nb.centre[k]).abs() > na.half[k] + nb.half[k]);
+        assert!(
+            apart,
+            "node {i}: children {a} and {b} overlap: {na:?} {nb:?}"
+        );
+    }
+}
+
+#[test]
+fn the_child_nearer_the_origin_comes_first() {
+    // Seen from the origin (the camera's frame) a ray's walk meets the instances nearly in
+    // the order it enters them, which keeps its list's sort short.
+    let p = program(&grid_of_spheres());
+    let origin = [-4.0, -6.0, 9.0];
+    let f = find(&p.scene, &p.analysis, origin).expect("found");
+    let distance = |n: &sdfc_ir::instances::Node| {
+        let d = [0, 1, 2].map(|k| (n.centre[k].abs() - n.half[k]).max(0.0));
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    };
+    let mut ordered = 0;
+    for i in 0..f.nodes.len() {
+        let Some((a, b)) = children(&f, i) else {
+            continue;
+        };
+        let (da, db) = (distance(&f.nodes[a]), distance(&f.nodes[b]));
+        // The nodes' boxes are padded by a thousandth: ties may fall either way.
+        assert!(
+            da <= db + 1e-2,
+            "node {i}: first child {da} away, second {db}"
+        );
+        ordered += usize::from(da < db);
+    }
+    assert!(ordered > 20, "{ordered} nodes with a nearer child");
+}
+
 #[test]
 fn instances_are_found_relative_to_an_origin() {
     let p = program(&union(20));

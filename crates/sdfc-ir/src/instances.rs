@@ -508,7 +508,7 @@ fn sah_split(items: &[Instance], idx: &mut [u32]) -> Option<usize> {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
                 (mn.min(mid(i, a)), mx.max(mid(i, a)))
             });
-        if !(mx > mn) {
+        if mx <= mn {
             continue;
         }
         let scale = BINS as f64 / (mx - mn);

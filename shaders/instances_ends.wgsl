@@ -5,9 +5,9 @@ fn scene_distance(p: vec3<f32>) -> f32 {
 }
 
 // The material at a surface point p, where a march ended: the nearest instance's
-// (`ray_nearest`).
+// (`end_leaf`).
 fn scene_material(p: vec3<f32>) -> SceneMaterial {
-    let leaf = ray_nearest(p, 3.0e38).leaf;
+    let leaf = end_leaf(p);
     var material = 0u;
     if leaf != 0u {
         material = scene_data[leaf + 1u].y;
@@ -20,7 +20,13 @@ fn march_distance(p: vec3<f32>, t: f32) -> f32 {
     return ray_distance(p, t, 3.0e38);
 }
 
-// The distance the normal at the march's end samples (`ray_nearest`).
+// The union's distance near the march's end (`ray_nearest`), and the instance that gives
+// it: the normal's samples and the material.
+fn normal_nearest(p: vec3<f32>) -> Nearest {
+    return ray_nearest(p, 3.0e38);
+}
+
+// The distance the normal at the march's end samples.
 fn normal_distance(p: vec3<f32>) -> f32 {
-    return ray_nearest(p, 3.0e38).distance;
+    return normal_nearest(p).distance;
 }

@@ -6,9 +6,9 @@ fn scene_distance(p: vec3<f32>) -> f32 {
 }
 
 // The material at a surface point p, where a march ended: the nearest instance's
-// (`ray_nearest`), or the other children's where no instance is nearer.
+// (`end_leaf`), or the other children's where no instance is nearer.
 fn scene_material(p: vec3<f32>) -> SceneMaterial {
-    let leaf = ray_nearest(p, rest_distance(p)).leaf;
+    let leaf = end_leaf(p);
     if leaf == 0u {
         return rest_material(p);
     }
@@ -21,7 +21,14 @@ fn march_distance(p: vec3<f32>, t: f32) -> f32 {
     return ray_distance(p, t, rest_distance(p));
 }
 
-// The distance the normal at the march's end samples (`ray_nearest`).
+// The union's distance near the march's end: the other children's, and the instances the
+// ray's list holds there (`ray_nearest`), with the instance that gives it (0 if none is
+// nearer): the normal's samples and the material.
+fn normal_nearest(p: vec3<f32>) -> Nearest {
+    return ray_nearest(p, rest_distance(p));
+}
+
+// The distance the normal at the march's end samples.
 fn normal_distance(p: vec3<f32>) -> f32 {
-    return ray_nearest(p, rest_distance(p)).distance;
+    return normal_nearest(p).distance;
 }

@@ -23,6 +23,8 @@ var<private> ray_cut: f32;
 var<private> ray_k0: u32;
 var<private> ray_t0: f32;
 var<private> ray_hit: f32;
+// The leaf word of the instance nearest where the march ended (`end_leaf`).
+var<private> ray_end_leaf: u32;
 
 // How far from its stretch an instance is still evaluated at t: four surface thresholds
 // (`march_threshold`), so that a stretch's ends never look like a surface (a bound below the

@@ -379,11 +379,15 @@ fn instances_union_wgsl() {
     let end = mat + c.wgsl[mat..].find("\n}\n").expect("its end") + 3;
     insta::assert_snapshot!("instances_union.wgsl", &c.wgsl[start..end]);
     // Each march lists the instances its ray passes first; the march, the refinement and the
-    // normal sample through that list (`shaders/instances_rays.wgsl`).
+    // normal sample through that list (`shaders/instances_rays.wgsl`); the tetrahedron
+    // normal's fifth sample finds the material's instance (`end_leaf`).
     assert!(c.wgsl.contains("ray_start(ro, rd, span.x, span.y, pixel);"));
     assert_eq!(c.wgsl.matches("fn march_listed(").count(), 1);
     assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 2);
-    assert!(c.wgsl.contains("normal_distance(p + "));
+    assert!(c
+        .wgsl
+        .contains("normal_nearest(select(p + k[i & 3u] * h, end, i == 4u))"));
+    assert!(c.wgsl.contains("return ray_end_leaf;"));
     // Without the option, the same scene is code.
     let code = compile("instances_union", &src, &Options::default());
     assert!(code.data.is_empty() && !code.wgsl.contains("scene_data"));

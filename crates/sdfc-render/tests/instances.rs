@@ -305,6 +305,29 @@ fn rays_past_more_instances_than_a_list_holds() {
     check_allowing("a block of 640 spheres", &src, 8);
 }
 
+/// 48 spheres about one point, each moved by a few hundredths: every ray through the crowd
+/// meets more padded boxes within a margin of one t than a list holds (`RAY_LIST`, 32), so
+/// its list is cut where the crowd begins and the walk answers from there. (Listing the ray
+/// again at the cut cannot take it through such a crowd: docs/performance.md, stop 35.)
+#[test]
+fn a_crowd_of_more_instances_than_a_list_holds() {
+    let mut src = String::from(
+        "camera { position: [0.3, 0.4, 1.6], target: [0, 0, 0], fov: 50deg }\nscene = union(\n",
+    );
+    for i in 0..48 {
+        let k = i as f64;
+        let (x, y, z) = (
+            0.03 * k.sin(),
+            0.03 * (1.7 * k).cos(),
+            0.03 * (2.3 * k).sin(),
+        );
+        let r = 0.5 + 0.01 * (i % 5) as f64;
+        src += &format!("    sphere({r}).translate([{x:.4}, {y:.4}, {z:.4}]),\n");
+    }
+    src += "    box([0.3, 0.3, 0.3]).translate([1.2, -0.4, -0.5]),\n);\n";
+    check("a crowd of 48 spheres", &src);
+}
+
 /// The 300-shape grid from `compare_shader`'s close camera: at 64x48 one ray came within the
 /// threshold of a torus, `refine`'s secant step took it to just in front of a box behind,
 /// over that box's corner, and the pass that followed was taken from the last sample: a hole

@@ -1,9 +1,9 @@
 //! The default rule for large unions (`Instances::Auto`): a root union of
 //! `AUTO_INSTANCES` or more instances is emitted as data, a smaller one as code, and
-//! the options that ask for code (`Never`, `cull`, `lib`) get code.
+//! the options that ask for code (`Never`, `cull`, `lib`) get code, and so does a crowd.
 
 use sdfc_tests::grid_scene;
-use sdfc_wgsl::{compile, Compiled, Failure, Instances, Options, AUTO_INSTANCES};
+use sdfc_wgsl::{compile, Compiled, Failure, Instances, Options, AUTO_CROWD, AUTO_INSTANCES};
 
 fn compiled(n: usize, opts: &Options) -> Compiled {
     compile(&grid_scene(n), opts).unwrap_or_else(|f| panic!("grid of {n}: {f}"))
@@ -79,4 +79,44 @@ fn code_where_asked_for() {
         },
     );
     assert!(matches!(refused, Err(Failure::Usage(_))), "lib with Always");
+}
+
+/// `AUTO_INSTANCES` spheres about one point, each moved by a few hundredths: every box holds
+/// the crowd's middle, more than a ray's list holds.
+fn crowd(n: usize) -> String {
+    let mut s = String::from("scene = union(\n");
+    for i in 0..n {
+        let k = i as f64;
+        s += &format!(
+            "    sphere(0.5).translate([{:.4}, {:.4}, {:.4}]),\n",
+            0.03 * k.sin(),
+            0.03 * (1.7 * k).cos(),
+            0.03 * (2.3 * k).sin()
+        );
+    }
+    s + ");\n"
+}
+
+#[test]
+fn by_default_a_crowd_stays_code() {
+    // A ray through more boxes at one place than its list holds walks the whole hierarchy
+    // at every step there: the rule keeps such a union code, asked for it is data.
+    let src = crowd(AUTO_INSTANCES);
+    let auto = compile(&src, &Options::default()).expect("compiles");
+    assert!(!as_data(&auto), "a crowd emitted as data by default");
+    let always = Options {
+        instances: Instances::Always,
+        ..Options::default()
+    };
+    let asked = compile(&src, &always).expect("compiles");
+    assert!(as_data(&asked));
+    // The limit is what a ray's list holds.
+    assert!(
+        asked
+            .wgsl
+            .contains(&format!("const RAY_LIST: u32 = {AUTO_CROWD}u;")),
+        "the list's size is not AUTO_CROWD"
+    );
+    // A grid is no crowd: one box holds each point.
+    assert!(as_data(&compiled(AUTO_INSTANCES, &Options::default())));
 }

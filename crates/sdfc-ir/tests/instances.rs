@@ -222,6 +222,21 @@ fn the_child_nearer_the_origin_comes_first() {
 }
 
 #[test]
+fn a_crowd_counts_the_boxes_that_hold_one_point() {
+    // In the grid each box holds only its own middle.
+    let (_, f) = found(&grid_of_spheres()).expect("found");
+    assert_eq!(f.crowd(), 1);
+    // 20 spheres about one point, and 20 apart: every box of the first holds their middle.
+    let mut s = String::from("scene = union(\n");
+    for i in 0..20 {
+        s += &format!("    sphere(0.5).translate([0.0{}, 0, 0]),\n", i % 10);
+        s += &format!("    sphere(0.4).translate([{}, 5, 0]),\n", 2 * i);
+    }
+    let (_, f) = found(&(s + ");\n")).expect("found");
+    assert_eq!(f.crowd(), 20);
+}
+
+#[test]
 fn instances_are_found_relative_to_an_origin() {
     let p = program(&union(20));
     let a = &p.analysis;

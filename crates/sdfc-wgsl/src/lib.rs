@@ -48,7 +48,7 @@ mod options;
 pub mod parts;
 pub mod validate;
 
-pub use options::{check_import_path, Instances, Options, AUTO_INSTANCES};
+pub use options::{check_import_path, Instances, Options, AUTO_CROWD, AUTO_INSTANCES};
 /// The IR a compiled scene carries ([`Compiled::program`]), which the renderer's interpreted
 /// marcher and point evaluation take.
 pub use sdfc_ir::{Program, Stages};
@@ -326,7 +326,8 @@ pub fn emit_validated_with_data(
 fn emit_with_data(program: &Program, opts: &Options) -> Result<(String, Vec<u8>), Failure> {
     let plan = opts
         .data_from()
-        .and_then(|min| instances::plan_at_least(program, min));
+        .and_then(|min| instances::plan_at_least(program, min))
+        .filter(|p| opts.instances != Instances::Auto || p.found.crowd() <= AUTO_CROWD);
     let wgsl = emit_checked(program, opts, plan.as_ref())?;
     Ok((wgsl, plan.map_or_else(Vec::new, |p| p.data())))
 }

@@ -25,8 +25,8 @@ pub struct Options {
 /// When a root union of instances is emitted as data ([`Options::instances`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Instances {
-    /// Where the union has [`AUTO_INSTANCES`] or more instances, the full shader is emitted
-    /// and `cull` is not asked for.
+    /// Where the union has [`AUTO_INSTANCES`] or more instances, no more than [`AUTO_CROWD`]
+    /// of whose boxes hold one point, the full shader is emitted and `cull` is not asked for.
     #[default]
     Auto,
     /// Wherever the root is a union of instances (`sdfc_ir::instances::MIN_CHILDREN` or
@@ -45,6 +45,13 @@ pub enum Instances {
 /// 0.93 s, data 0.68 to 0.80 s), and with the cache warm the data form was 1.5x to 2.5x
 /// faster from 100 shapes up. docs/performance.md, "Data by default" and "From 150 shapes".
 pub const AUTO_INSTANCES: usize = 150;
+
+/// The most instances' boxes that may hold one point (`sdfc_ir::instances::Instances::crowd`)
+/// for [`Instances::Auto`] to read a union as data: a ray's list holds as many
+/// (`RAY_LIST` in `shaders/instances_rays.wgsl`), and a ray through a larger crowd walks the
+/// whole hierarchy at every step there. 48 spheres about one point drew 30x slower as data
+/// than as code on lavapipe (docs/performance.md, "Cheaper lists").
+pub const AUTO_CROWD: usize = 32;
 
 impl Options {
     /// The fewest instances these options read as data, or `None` for code.

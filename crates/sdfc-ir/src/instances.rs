@@ -428,34 +428,30 @@ fn inverse(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
 }
 
 impl Instances {
-    /// The most instances' boxes that hold one point, over the midpoints of the boxes: a
-    /// crowd. A ray through more boxes at one place than its list holds (32 in the renderer)
-    /// walks the whole hierarchy at every step there, and the union is then faster as code
-    /// (`sdfc_wgsl::Instances::Auto` keeps it so). One query of the hierarchy a box.
-    pub fn crowd(&self) -> usize {
-        self.items
-            .iter()
-            .map(|it| {
-                let p = [0, 1, 2].map(|a| 0.5 * (it.lo[a] + it.hi[a]));
-                let mut count = 0;
-                let mut i = 0;
-                while i < self.nodes.len() {
-                    let n = &self.nodes[i];
-                    let inside = (0..3).all(|a| (p[a] - n.centre[a]).abs() <= n.half[a]);
-                    if !inside {
-                        i = n.skip as usize;
-                        continue;
-                    }
-                    if let Some(l) = n.leaf {
-                        let b = &self.items[l as usize];
-                        count += usize::from((0..3).all(|a| b.lo[a] <= p[a] && p[a] <= b.hi[a]));
-                    }
-                    i += 1;
+    /// Whether more than `limit` instances' boxes hold one point (the middle of one of
+    /// them): a crowd. A ray through more boxes at one place than its list holds (32 in the
+    /// renderer) walks the whole hierarchy at every step there, and the union is then
+    /// faster as code (`sdfc_wgsl::Instances::Auto` keeps it so). One query of the
+    /// hierarchy a box, each stopped at `limit + 1` boxes, so a crowd is found at once.
+    pub fn crowd_exceeds(&self, limit: usize) -> bool {
+        self.items.iter().any(|it| {
+            let p = [0, 1, 2].map(|a| 0.5 * (it.lo[a] + it.hi[a]));
+            let mut count = 0;
+            let mut i = 0;
+            while i < self.nodes.len() && count <= limit {
+                let n = &self.nodes[i];
+                if (0..3).any(|a| (p[a] - n.centre[a]).abs() > n.half[a]) {
+                    i = n.skip as usize;
+                    continue;
                 }
-                count
-            })
-            .max()
-            .unwrap_or(0)
+                if let Some(l) = n.leaf {
+                    let b = &self.items[l as usize];
+                    count += usize::from((0..3).all(|a| b.lo[a] <= p[a] && p[a] <= b.hi[a]));
+                }
+                i += 1;
+            }
+            count > limit
+        })
     }
 }
 

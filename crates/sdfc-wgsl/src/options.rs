@@ -46,7 +46,7 @@ pub enum Instances {
 /// faster from 100 shapes up. docs/performance.md, "Data by default" and "From 150 shapes".
 pub const AUTO_INSTANCES: usize = 150;
 
-/// The most instances' boxes that may hold one point (`sdfc_ir::instances::Instances::crowd`)
+/// The most instances' boxes that may hold one point (`Instances::crowd_exceeds` in sdfc-ir)
 /// for [`Instances::Auto`] to read a union as data: a ray's list holds as many
 /// (`RAY_LIST` in `shaders/instances_rays.wgsl`), and a ray through a larger crowd walks the
 /// whole hierarchy at every step there. 48 spheres about one point drew 30x slower as data

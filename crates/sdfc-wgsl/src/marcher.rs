@@ -178,9 +178,7 @@ fn normal_listed(part: &str) -> String {
 /// fifth trip found it (both radiance parts take the normal at a surface point before its
 /// material), the other normals leave it to a call of its own.
 fn end_leaf(main: &str, normals: Normals) -> String {
-    let doc =
-        "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n\
-               // material.\n";
+    let doc = "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n// material.\n";
     if normals == Normals::Tetrahedron {
         format!(
             "{}\n{doc}// The normal's fifth sample, at p, found it (`scene_normal`).\n\

@@ -402,6 +402,18 @@ pub fn run(a: Args) -> Outcome {
     if a.instances && !a.interpreted && compiled.data.is_empty() {
         say!("{}", instances_note(true, "it is compiled as code"));
     }
+    if instances == sdfc_wgsl::Instances::Auto
+        && compiled.data.is_empty()
+        && sdfc_wgsl::instances::crowded(compiled.program())
+    {
+        say!(
+            "sdfc: note: the scene's root union holds {} or more constant shapes, but more \
+             than {} of their boxes hold one point, where every ray would walk them all at \
+             each step, so they stay code (--instances reads them as data)",
+            sdfc_wgsl::AUTO_INSTANCES,
+            sdfc_wgsl::AUTO_CROWD
+        );
+    }
     if instances == sdfc_wgsl::Instances::Auto && !compiled.data.is_empty() {
         // Said, because the picture's time and the flags that apply (`--cull`) change with it.
         say!(

@@ -1149,4 +1149,18 @@ fn instances_render_the_same_picture_or_say_why_not() {
         "{}",
         run.describe()
     );
+    // As many about one point (a crowd): code, and the user is told why.
+    let mut crowd = String::from("scene = union(\n");
+    for i in 0..sdfc_wgsl::AUTO_INSTANCES {
+        let k = i as f64;
+        let (x, y) = (0.03 * k.sin(), 0.03 * (1.7 * k).cos());
+        crowd += &format!("    sphere(0.5).translate([{x:.4}, {y:.4}, 0]),\n");
+    }
+    let crowd = t.write("crowd.sdf", crowd + ");\n");
+    let run = render_in(&t, &crowd, &t.path("crowd.png"), &[&["--size", "16x12"]]).expect_code(0);
+    assert!(
+        run.stderr.contains("so they stay code") && !run.stderr.contains("read as data,"),
+        "{}",
+        run.describe()
+    );
 }

@@ -54,6 +54,14 @@ pub fn plan_at_least(p: &Program, min: usize) -> Option<Plan> {
     Some(with_templates(p, found, rest))
 }
 
+/// Whether `p`'s root union holds [`crate::AUTO_INSTANCES`] or more instances but crowds them
+/// (more than [`crate::AUTO_CROWD`] of their boxes hold one point): [`crate::Instances::Auto`]
+/// then keeps it code, and `sdfc render` says why.
+pub fn crowded(p: &Program) -> bool {
+    plan_at_least(p, crate::AUTO_INSTANCES)
+        .is_some_and(|plan| plan.found.crowd_exceeds(crate::AUTO_CROWD))
+}
+
 /// The plan for `p`'s interpreted form (`interp::encode::encode_instances`), or `None` where
 /// its root is not a union of instances. The interpreter marches with `scene_distance` and
 /// difference normals only (analytic normals fall back to the tetrahedron there), so only

@@ -435,7 +435,7 @@ impl Instances {
     /// hierarchy a box, each stopped at `limit + 1` boxes, so a crowd is found at once.
     pub fn crowd_exceeds(&self, limit: usize) -> bool {
         self.items.iter().any(|it| {
-            let p = [0, 1, 2].map(|a| 0.5 * (it.lo[a] + it.hi[a]));
+            let p = it.middle();
             let mut count = 0;
             let mut i = 0;
             while i < self.nodes.len() && count <= limit {
@@ -455,6 +455,45 @@ impl Instances {
     }
 }
 
+impl Instance {
+    /// The middle of the instance's box.
+    fn middle(&self) -> [f64; 3] {
+        [0, 1, 2].map(|a| 0.5 * (self.lo[a] + self.hi[a]))
+    }
+}
+
+/// A box as its lowest and highest corners.
+type Bounds = ([f64; 3], [f64; 3]);
+
+/// The box that holds nothing, which [`grow`] starts from.
+const EMPTY: Bounds = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+
+/// `b` grown to hold the box from `lo` to `hi`.
+fn grow(b: &mut Bounds, lo: &[f64; 3], hi: &[f64; 3]) {
+    for a in 0..3 {
+        b.0[a] = b.0[a].min(lo[a]);
+        b.1[a] = b.1[a].max(hi[a]);
+    }
+}
+
+/// The box around the instances `idx`.
+fn bounds_of(items: &[Instance], idx: &[u32]) -> Bounds {
+    let mut b = EMPTY;
+    for &i in idx {
+        grow(&mut b, &items[i as usize].lo, &items[i as usize].hi);
+    }
+    b
+}
+
+/// The lowest and highest middle of the instances `idx` along axis `a`.
+fn middles(items: &[Instance], idx: &[u32], a: usize) -> (f64, f64) {
+    idx.iter()
+        .map(|&i| items[i as usize].middle()[a])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), m| {
+            (mn.min(m), mx.max(m))
+        })
+}
+
 /// The hierarchy over the instances' boxes, one instance per leaf: each node split where the
 /// surface area heuristic says a ray meets fewest boxes (`sah_split`), or at the median of
 /// the longest axis of the centres where it finds no split; the child nearer the frame's
@@ -462,26 +501,14 @@ impl Instances {
 fn hierarchy(items: &[Instance]) -> Vec<Node> {
     let mut nodes = Vec::with_capacity(2 * items.len());
     let mut idx: Vec<u32> = (0..items.len() as u32).collect();
-    build(items, &mut idx, &mut nodes);
+    let bounds = bounds_of(items, &idx);
+    build(items, &mut idx, bounds, &mut nodes);
     nodes
 }
 
-/// The box around the instances `idx`.
-fn bounds_of(items: &[Instance], idx: &[u32]) -> ([f64; 3], [f64; 3]) {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for &i in idx {
-        let it = &items[i as usize];
-        for a in 0..3 {
-            lo[a] = lo[a].min(it.lo[a]);
-            hi[a] = hi[a].max(it.hi[a]);
-        }
-    }
-    (lo, hi)
-}
-
-fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
+/// The subtree of the instances `idx`, whose box is `(lo, hi)`.
+fn build(items: &[Instance], idx: &mut [u32], (lo, hi): Bounds, nodes: &mut Vec<Node>) {
     let me = nodes.len();
-    let (lo, hi) = bounds_of(items, idx);
     let centre = [0, 1, 2].map(|a| 0.5 * (lo[a] + hi[a]));
     let half = [0, 1, 2].map(|a| 0.5 * (hi[a] - lo[a]) * (1.0 + PAD) + PAD);
     nodes.push(Node {
@@ -493,28 +520,28 @@ fn build(items: &[Instance], idx: &mut [u32], nodes: &mut Vec<Node>) {
     if idx.len() > 1 {
         let k = sah_split(items, idx).unwrap_or_else(|| median_split(items, idx));
         let (left, right) = idx.split_at_mut(k);
+        let (bl, br) = (bounds_of(items, left), bounds_of(items, right));
         // Nearer the origin first: from the camera a ray's walk then meets the instances
         // roughly in the order it lists them, so its insertion sort seldom shifts.
-        if box_distance(items, right) < box_distance(items, left) {
-            build(items, right, nodes);
-            build(items, left, nodes);
+        if box_distance(&br) < box_distance(&bl) {
+            build(items, right, br, nodes);
+            build(items, left, bl, nodes);
         } else {
-            build(items, left, nodes);
-            build(items, right, nodes);
+            build(items, left, bl, nodes);
+            build(items, right, br, nodes);
         }
     }
     nodes[me].skip = nodes.len() as u32;
 }
 
-/// How far the box around the instances `idx` is from the frame's origin.
-fn box_distance(items: &[Instance], idx: &[u32]) -> f64 {
-    let (lo, hi) = bounds_of(items, idx);
-    let d = [0, 1, 2].map(|a| (lo[a].max(0.0) + (-hi[a]).max(0.0)).max(0.0));
+/// How far the box `(lo, hi)` is from the frame's origin.
+fn box_distance((lo, hi): &Bounds) -> f64 {
+    let d = [0, 1, 2].map(|a| lo[a].max(0.0) + (-hi[a]).max(0.0));
     (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
 }
 
 /// A box's surface area over 2, from its extent: the share of random rays that meet it.
-fn area(lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
+fn area((lo, hi): &Bounds) -> f64 {
     let e = [0, 1, 2].map(|a| (hi[a] - lo[a]).max(0.0));
     e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
 }
@@ -522,88 +549,74 @@ fn area(lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
 /// Bins of the surface area heuristic on each axis.
 const BINS: usize = 32;
 
+/// The bin of `x` where bins `1 / scale` wide start at `mn`.
+fn bin(x: f64, mn: f64, scale: f64) -> usize {
+    (((x - mn) * scale) as usize).min(BINS - 1)
+}
+
 /// Splits `idx` (reordering it) where the surface area heuristic is lowest over BINS bins of
 /// the centres on each axis: the children's areas times their counts, the expected number
 /// of boxes a ray through the node meets below it. Returns the left child's length, or
 /// `None` where every centre falls in one bin on every axis. Binning is linear in the
 /// instances, so the 5 000-shape union builds as fast as with the median (a sort a level).
 fn sah_split(items: &[Instance], idx: &mut [u32]) -> Option<usize> {
-    let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
     let mut best: Option<(f64, usize, usize, f64, f64)> = None;
     for a in 0..3 {
-        let (mn, mx) = idx
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
-                (mn.min(mid(i, a)), mx.max(mid(i, a)))
-            });
+        let (mn, mx) = middles(items, idx, a);
         if mx <= mn {
             continue;
         }
         let scale = BINS as f64 / (mx - mn);
-        let bin = |i: u32| (((mid(i, a) - mn) * scale) as usize).min(BINS - 1);
         let mut count = [0usize; BINS];
-        let mut blo = [[f64::INFINITY; 3]; BINS];
-        let mut bhi = [[f64::NEG_INFINITY; 3]; BINS];
+        let mut boxes = [EMPTY; BINS];
         for &i in idx.iter() {
-            let (b, it) = (bin(i), &items[i as usize]);
+            let it = &items[i as usize];
+            let b = bin(it.middle()[a], mn, scale);
             count[b] += 1;
-            for c in 0..3 {
-                blo[b][c] = blo[b][c].min(it.lo[c]);
-                bhi[b][c] = bhi[b][c].max(it.hi[c]);
-            }
+            grow(&mut boxes[b], &it.lo, &it.hi);
         }
         // Suffix areas and counts, then a sweep from the left.
         let mut right_area = [0.0; BINS];
         let mut right_count = [0usize; BINS];
-        let (mut lo, mut hi, mut n) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+        let (mut right, mut n) = (EMPTY, 0);
         for b in (1..BINS).rev() {
-            for c in 0..3 {
-                lo[c] = lo[c].min(blo[b][c]);
-                hi[c] = hi[c].max(bhi[b][c]);
-            }
+            grow(&mut right, &boxes[b].0, &boxes[b].1);
             n += count[b];
-            right_area[b] = area(&lo, &hi);
+            right_area[b] = area(&right);
             right_count[b] = n;
         }
-        let (mut lo, mut hi, mut n) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+        let (mut left, mut n) = (EMPTY, 0);
         for b in 0..BINS - 1 {
-            for c in 0..3 {
-                lo[c] = lo[c].min(blo[b][c]);
-                hi[c] = hi[c].max(bhi[b][c]);
-            }
+            grow(&mut left, &boxes[b].0, &boxes[b].1);
             n += count[b];
             let rn = right_count[b + 1];
             if n == 0 || rn == 0 {
                 continue;
             }
-            let cost = area(&lo, &hi) * n as f64 + right_area[b + 1] * rn as f64;
+            let cost = area(&left) * n as f64 + right_area[b + 1] * rn as f64;
             if best.is_none_or(|(c, ..)| cost < c) {
                 best = Some((cost, a, b, mn, scale));
             }
         }
     }
     let (_, a, split, mn, scale) = best?;
-    let bin = |i: u32| (((mid(i, a) - mn) * scale) as usize).min(BINS - 1);
+    let left = |i: &u32| bin(items[*i as usize].middle()[a], mn, scale) <= split;
     // Stable, so that the union's order holds within each side.
-    idx.sort_by_key(|&i| bin(i) > split);
-    Some(idx.iter().take_while(|&&i| bin(i) <= split).count())
+    idx.sort_by_key(|i| !left(i));
+    Some(idx.iter().take_while(|i| left(i)).count())
 }
 
 /// Splits `idx` (reordering it) at the median of the longest axis of the centres; returns the
 /// left child's length.
 fn median_split(items: &[Instance], idx: &mut [u32]) -> usize {
-    let mid = |i: u32, a: usize| 0.5 * (items[i as usize].lo[a] + items[i as usize].hi[a]);
     let extent = [0, 1, 2].map(|a| {
-        let (mn, mx) = idx
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), &i| {
-                (mn.min(mid(i, a)), mx.max(mid(i, a)))
-            });
+        let (mn, mx) = middles(items, idx, a);
         mx - mn
     });
     let axis = (0..3).fold(0, |best, a| if extent[a] > extent[best] { a } else { best });
+    let mid = |i: &u32| items[*i as usize].middle()[axis];
     // Stable, so that equal centres keep the union's order.
-    idx.sort_by(|&x, &y| mid(x, axis).total_cmp(&mid(y, axis)));
+    idx.sort_by(|x, y| mid(x).total_cmp(&mid(y)));
     idx.len() / 2
 }
 

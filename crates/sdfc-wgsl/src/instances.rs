@@ -37,29 +37,37 @@ pub struct Plan {
 /// normals differentiate the distance function, and `scene_distance_ray` steps along rays
 /// through nodes the walk does not have.
 pub fn plan(p: &Program) -> Option<Plan> {
-    plan_at_least(p, MIN_CHILDREN)
+    plan_at_least(p, MIN_CHILDREN, None)
 }
 
-/// [`plan`] for a union of at least `min` instances (the rule of `Instances::Auto`). The
-/// union may hold other children too (a floor, a fractal): they stay code, evaluated beside
-/// the walk.
-pub fn plan_at_least(p: &Program, min: usize) -> Option<Plan> {
+/// [`plan`] for a union of at least `min` instances, and none where more than `crowd` of
+/// their boxes hold one point (the rule of `Instances::Auto`). The union may hold other
+/// children too (a floor, a fractal): they stay code, evaluated beside the walk.
+pub fn plan_at_least(p: &Program, min: usize, crowd: Option<usize>) -> Option<Plan> {
+    let found = found_at_least(p, min)?;
+    if crowd.is_some_and(|limit| found.crowd_exceeds(limit)) {
+        return None;
+    }
+    let relative = p.relative.as_ref().map(|r| r.origin);
+    let rest = rest_functions(&p.scene, &found, relative);
+    Some(with_templates(p, found, rest))
+}
+
+/// The union of at least `min` instances the render shader could read as data, before its
+/// kinds' functions are built.
+fn found_at_least(p: &Program, min: usize) -> Option<Instances> {
     let frame = p.marched();
     if p.scene.render.normals == Normals::Analytic || frame.distance_ray.is_some() {
         return None;
     }
-    let found = find_mixed(&p.scene, &p.analysis, frame.origin.map(f64::from), min)?;
-    let relative = p.relative.as_ref().map(|r| r.origin);
-    let rest = rest_functions(&p.scene, &found, relative);
-    Some(with_templates(p, found, rest))
+    find_mixed(&p.scene, &p.analysis, frame.origin.map(f64::from), min)
 }
 
 /// Whether `p`'s root union holds [`crate::AUTO_INSTANCES`] or more instances but crowds them
 /// (more than [`crate::AUTO_CROWD`] of their boxes hold one point): [`crate::Instances::Auto`]
 /// then keeps it code, and `sdfc render` says why.
 pub fn crowded(p: &Program) -> bool {
-    plan_at_least(p, crate::AUTO_INSTANCES)
-        .is_some_and(|plan| plan.found.crowd_exceeds(crate::AUTO_CROWD))
+    found_at_least(p, crate::AUTO_INSTANCES).is_some_and(|f| f.crowd_exceeds(crate::AUTO_CROWD))
 }
 
 /// The plan for `p`'s interpreted form (`interp::encode::encode_instances`), or `None` where

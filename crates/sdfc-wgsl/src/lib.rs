@@ -326,8 +326,7 @@ pub fn emit_validated_with_data(
 fn emit_with_data(program: &Program, opts: &Options) -> Result<(String, Vec<u8>), Failure> {
     let plan = opts
         .data_from()
-        .and_then(|min| instances::plan_at_least(program, min))
-        .filter(|p| opts.instances != Instances::Auto || !p.found.crowd_exceeds(AUTO_CROWD));
+        .and_then(|min| instances::plan_at_least(program, min, opts.crowd_limit()));
     let wgsl = emit_checked(program, opts, plan.as_ref())?;
     Ok((wgsl, plan.map_or_else(Vec::new, |p| p.data())))
 }

@@ -100,7 +100,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         Normals::Analytic => None,
     } {
         if view.ray_lists {
-            s += &normal_listed(part);
+            s += &normal_listed(part, scene.render.normals);
         } else {
             s += part;
         }
@@ -149,8 +149,8 @@ const NORMAL_CALL: &str = "scene_normal(round(q / h) * h, h)";
 /// under masks, so one `normal_nearest` for both instead of two drew the 300-shape grid 1.04x
 /// (from close by) to 1.08x (from the suite's camera) faster, the same picture to the bit
 /// (docs/performance.md).
-fn normal_listed(part: &str) -> String {
-    if part.contains(TETRAHEDRON_LOOP) {
+fn normal_listed(part: &str, normals: Normals) -> String {
+    if normals == Normals::Tetrahedron {
         part.replace(
             TETRAHEDRON_HEAD,
             "fn scene_normal(p: vec3<f32>, h: f32, end: vec3<f32>) -> vec3<f32> {",
@@ -528,7 +528,7 @@ mod tests {
         assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_HEAD));
         assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_LOOP));
         assert_eq!(parts::MAIN.matches(NORMAL_CALL).count(), 1);
-        let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON);
+        let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron);
         assert!(tetrahedron.contains("end: vec3<f32>"));
         assert!(tetrahedron.contains("ray_end_leaf = near.leaf;"));
         assert_eq!(tetrahedron.matches("normal_nearest(").count(), 1);
@@ -540,7 +540,7 @@ mod tests {
             (parts::NORMALS_CENTRAL, Normals::Central),
             (parts::NORMALS_FORWARD, Normals::Forward),
         ] {
-            let listed = normal_listed(part);
+            let listed = normal_listed(part, normals);
             assert!(listed.contains("normal_distance(p + ") && !listed.contains("scene_distance("));
             let main = end_leaf(parts::MAIN, normals);
             assert!(main.contains(NORMAL_CALL) && main.contains("return normal_nearest(p).leaf;"));

@@ -63,6 +63,12 @@ impl Options {
         }
     }
 
+    /// The most instances' boxes holding one point with which these options read a union
+    /// as data: [`AUTO_CROWD`] by default, any when data is asked for.
+    pub fn crowd_limit(&self) -> Option<usize> {
+        (self.instances == Instances::Auto).then_some(AUTO_CROWD)
+    }
+
     /// Whether the options make sense together; the reason, if not.
     pub fn check(&self) -> Result<(), String> {
         if self.instances == Instances::Always && self.lib {

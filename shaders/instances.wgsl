@@ -30,16 +30,44 @@ fn instance_distance(p: vec3<f32>, leaf: u32) -> f32 {
     return instance_kind(local, r) * c.w;
 }
 
-// One loop over the hierarchy, with no stack: a node whose box is no nearer than the best
-// distance so far is skipped with its subtree; beyond its box's reach (its half diagonal)
-// the subtree answers with the box's distance, a lower bound of its field; a leaf's instance
-// is evaluated; otherwise the walk goes down. The result does not depend on the order of the
-// walk (or on the hint): every instance contributes its distance, or the box distance of the
-// node it lies under where the point is beyond that node's reach, and a skipped subtree
-// contributes at least the best distance when it was skipped, which is never below the end
-// result. Near every surface that is the union's exact distance. `below` is a distance the
-// caller already has (a mixed union's other children's, else 3e38): the walk starts from it,
-// and the leaf word is 0 where no instance is nearer.
+// One node of the walk (`scene_nearest`, `ray_walk`): where it goes next, the leaf word of
+// the instance to evaluate there (0: none), and the best distance so far.
+struct Walked {
+    next: u32,
+    leaf: u32,
+    distance: f32,
+}
+
+// The walk at node i, at p, with the best distance so far d: a node whose box is no nearer
+// than d is passed over with its subtree; beyond its box's reach (its half diagonal) the
+// subtree answers with the box's distance, a lower bound of its field; a leaf gives its
+// instance; an inner node goes down to its first child.
+fn walk_node(p: vec3<f32>, i: u32, d: f32) -> Walked {
+    let a = scene_data[2u * i];
+    let b = scene_data[2u * i + 1u];
+    let half = bitcast<vec3<f32>>(b.xyz);
+    let q = abs(p - bitcast<vec3<f32>>(a.xyz)) - half;
+    let bd = length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
+    if bd >= d {
+        return Walked(a.w, 0u, d);
+    }
+    if bd > length(half) {
+        return Walked(a.w, 0u, bd);
+    }
+    if b.w == 0u {
+        return Walked(i + 1u, 0u, d);
+    }
+    return Walked(a.w, b.w, d);
+}
+
+// One loop over the hierarchy (`walk_node`), with no stack. The result does not depend on
+// the order of the walk (or on the hint): every instance contributes its distance, or the
+// box distance of the node it lies under where the point is beyond that node's reach, and a
+// skipped subtree contributes at least the best distance when it was skipped, which is never
+// below the end result. Near every surface that is the union's exact distance. `below` is a
+// distance the caller already has (a mixed union's other children's, else 3e38): the walk
+// starts from it, and the leaf word is 0 where no instance is nearer. (`ray_walk` walks the
+// same way where a ray's list does not answer.)
 fn scene_nearest(p: vec3<f32>, below: f32) -> Nearest {
     var d = below;
     var nearest = 0u;
@@ -58,26 +86,13 @@ fn scene_nearest(p: vec3<f32>, below: f32) -> Nearest {
             if i >= end {
                 break;
             }
-            let a = scene_data[2u * i];
-            let b = scene_data[2u * i + 1u];
-            let half = bitcast<vec3<f32>>(b.xyz);
-            let q = abs(p - bitcast<vec3<f32>>(a.xyz)) - half;
-            let bd = length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
-            if bd >= d {
-                i = a.w;
+            let w = walk_node(p, i, d);
+            i = w.next;
+            d = w.distance;
+            leaf = w.leaf;
+            if leaf == 0u {
                 continue;
             }
-            if bd > length(half) {
-                d = bd;
-                i = a.w;
-                continue;
-            }
-            if b.w == 0u {
-                i = i + 1u;
-                continue;
-            }
-            leaf = b.w;
-            i = a.w;
         }
         let di = instance_distance(p, leaf);
         if di < d {

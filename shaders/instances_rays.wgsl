@@ -4,7 +4,7 @@
 // distance to their stretch, and the rest of the union cannot come near the ray. The list
 // holds at most RAY_LIST entries, every one that enters before `ray_cut` (the nearest entry
 // of those left out): from the cut on, the walk over the whole hierarchy answers. On
-// lavapipe this drew the 300-shape grid 4.4x to 5.0x faster than its code, where the walk
+// lavapipe this drew the 300-shape grid 4.3x to 5.2x faster than its code, where the walk
 // at every step ran at 0.43x from close by (docs/performance.md, "Culling per ray").
 const RAY_LIST: u32 = 32u;
 
@@ -122,85 +122,127 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
     ray_t0 = -3.0e38;
 }
 
-// A bound on how far the ray can step from t (at p, the point there), both ways along it,
-// at most `below` (a distance already known): a listed instance whose stretch holds t
-// (within `ray_margin`) gives its distance; one further along, the ray's
-// distance to its entry; one behind, the distance back to its exit; what the list left
-// out, the distance to the cut. The list is sorted by entry, so the loop stops at the first
-// entry further than the bound so far; the entries that (with all before them) ended more
-// than a margin before t are passed over from where the last step began (from the list's
-// start when t went back), and bound the step by t minus their last exit. From a margin
-// before the cut on, the walk answers. (Listing the ray again there was tried: where
-// more than RAY_LIST padded boxes hold one point, the new cut falls behind t again, and a
-// march that far is rare: rays from afar meet the front of a union early.)
-fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
+// The union's distance at p, t along the ray, from the ray's list; no more than `below` (a
+// distance already known, a mixed union's other children's), with the leaf word of the
+// instance that gave it (0 if none is nearer). Along the ray (`along`, the march's samples)
+// it is a bound on how far the ray can step from t both ways: a listed instance whose stretch
+// holds t (within `ray_margin`) gives its distance; one further along, the ray's distance to
+// its entry; one behind, the distance back to its exit; what the list left out, the distance
+// to the cut. The list is sorted by entry, so the loop stops at the first entry further than
+// the bound so far; the entries that (with all before them) ended more than a margin before
+// t are passed over from where the last step began (from the list's start when t went back),
+// and bound the step by t minus their last exit. Off the ray (the normal's and the
+// material's samples near the march's end, t = `ray_hit`) only the instances whose stretch
+// holds t are evaluated: every instance within the normal's step of the end is among them
+// (the boxes' padding is far larger than the step). From a margin before the cut on, or
+// where no listed stretch holds the march's end (a pass by an edge counted as touching it,
+// within the threshold but outside the padding), the walk over the whole hierarchy answers.
+//
+// One loop serves the list and the walk, so that it holds the only call of
+// instance_distance here: drivers inline every call, and on lavapipe a loop's first trip
+// and an `if`'s body run under masks where no lane needs them. Against a list loop and the
+// walk's own loop, each with its call, the 300-shape grid drew 1.04x (close by) and 1.06x
+// (the suite's camera) faster, the same pictures, and its pipeline built in 0.52 s against
+// 0.58 s (docs/performance.md). (Listing the ray again at the cut was tried instead of the
+// walk: where more than RAY_LIST padded boxes hold one point, the new cut falls behind t
+// again, and a march that far is rare: rays from afar meet the front of a union early.)
+fn ray_walk(p: vec3<f32>, t: f32, below: f32, along: bool) -> Nearest {
     let m = ray_margin(t);
-    if t < ray_lo || t > ray_cut - m {
-        return scene_nearest(p, below).distance;
-    }
-    var d = min(below, ray_cut - t);
-    if t < ray_t0 {
-        ray_k0 = 0u;
-    }
-    var k0 = ray_k0;
-    loop {
-        if k0 >= ray_n || ray_most[k0] + m >= t {
-            break;
-        }
-        k0 = k0 + 1u;
-    }
-    ray_k0 = k0;
-    ray_t0 = t;
-    if k0 > 0u {
-        d = min(d, t - ray_most[k0 - 1u]);
-    }
-    for (var k = k0; k < ray_n; k = k + 1u) {
-        let t_in = ray_in[k];
-        if t_in - t >= d {
-            break;
-        }
-        let t_out = ray_out[k];
-        if t < t_in - m {
-            d = min(d, t_in - t);
-        } else if t > t_out + m {
-            d = min(d, t - t_out);
-        } else {
-            d = min(d, instance_distance(p, ray_leaf[k]));
-        }
-    }
-    return d;
-}
-
-// The union's distance near the march's end (for the normal and the material there), and
-// the leaf word of the instance that gave it (0 if none is nearer than `below`): the
-// instances whose stretch holds that end within the margin. Every instance within the
-// normal's step of the end is among them (the boxes' padding is far larger than the step).
-fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
-    let m = ray_margin(ray_hit);
+    var walk = t < ray_lo || t > ray_cut - m;
     var d = below;
-    var leaf = 0u;
-    var held = false;
-    if ray_hit >= ray_lo && ray_hit <= ray_cut - m {
-        for (var k = 0u; k < ray_n; k = k + 1u) {
-            if ray_in[k] - m > ray_hit {
+    var k = 0u;
+    var hint = 0u;
+    if walk {
+        hint = scene_hint;
+    } else if along {
+        d = min(below, ray_cut - t);
+        if t < ray_t0 {
+            ray_k0 = 0u;
+        }
+        var k0 = ray_k0;
+        loop {
+            if k0 >= ray_n || ray_most[k0] + m >= t {
                 break;
             }
-            if ray_hit <= ray_out[k] + m {
-                held = true;
-                let di = instance_distance(p, ray_leaf[k]);
-                if di < d {
-                    d = di;
-                    leaf = ray_leaf[k];
-                }
+            k0 = k0 + 1u;
+        }
+        ray_k0 = k0;
+        ray_t0 = t;
+        if k0 > 0u {
+            d = min(d, t - ray_most[k0 - 1u]);
+        }
+        k = k0;
+    }
+    // Whether a listed stretch holds t (off the ray: if none does, the walk answers).
+    var held = false;
+    let end = scene_data[0].w;
+    var i = 0u;
+    var nearest = 0u;
+    loop {
+        var leaf = hint;
+        if hint != 0u {
+            hint = 0u;
+        } else if walk {
+            if i >= end {
+                break;
             }
+            let w = walk_node(p, i, d);
+            i = w.next;
+            d = w.distance;
+            leaf = w.leaf;
+            if leaf == 0u {
+                continue;
+            }
+        } else {
+            var past = k >= ray_n;
+            if !past {
+                past = select(ray_in[k] - m > t, ray_in[k] - t >= d, along);
+            }
+            if past {
+                if along || held {
+                    break;
+                }
+                walk = true;
+                hint = scene_hint;
+                continue;
+            }
+            let t_in = ray_in[k];
+            let t_out = ray_out[k];
+            leaf = ray_leaf[k];
+            k = k + 1u;
+            if t < t_in - m {
+                if along {
+                    d = min(d, t_in - t);
+                }
+                continue;
+            }
+            if t > t_out + m {
+                if along {
+                    d = min(d, t - t_out);
+                }
+                continue;
+            }
+            held = true;
+        }
+        let di = instance_distance(p, leaf);
+        if di < d {
+            d = di;
+            nearest = leaf;
         }
     }
-    if !held {
-        // Beyond the list, or where no listed stretch holds the march's end (a pass by an
-        // edge counted as touching it, within the threshold but outside the padding): the
-        // walk answers. One call of it, not one for each case: drivers inline every call
-        // (the 300-shape grid's pipeline built in 0.73 s on lavapipe, 0.92 s with two).
-        return scene_nearest(p, below);
+    if walk && nearest != 0u {
+        scene_hint = nearest;
     }
-    return Nearest(d, leaf);
+    return Nearest(d, nearest);
+}
+
+// The march's bound at p, t along the ray (`ray_walk` along it).
+fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
+    return ray_walk(p, t, below, true).distance;
+}
+
+// The union's distance near the march's end, and the instance that gives it (`ray_walk`
+// off the ray): the normal's samples and the material.
+fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
+    return ray_walk(p, ray_hit, below, false);
 }

@@ -141,9 +141,9 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
 // One loop serves the list and the walk, so that it holds the only call of
 // instance_distance here: drivers inline every call, and on lavapipe a loop's first trip
 // and an `if`'s body run under masks where no lane needs them. Against a list loop and the
-// walk's own loop, each with its call, the 300-shape grid drew 1.04x (close by) and 1.06x
-// (the suite's camera) faster, the same pictures, and its pipeline built in 0.52 s against
-// 0.58 s (docs/performance.md). (Listing the ray again at the cut was tried instead of the
+// walk's own loop, each with its call, the 300-shape grid drew 1.02x to 1.03x (close by) and
+// 1.08x to 1.09x (the suite's camera) faster, the same pictures, and its pipeline built in
+// 0.50 s against 0.59 s (docs/performance.md, "One loop for the list and the walk"). (Listing the ray again at the cut was tried instead of the
 // walk: where more than RAY_LIST padded boxes hold one point, the new cut falls behind t
 // again, and a march that far is rare: rays from afar meet the front of a union early.)
 fn ray_walk(p: vec3<f32>, t: f32, below: f32, along: bool) -> Nearest {

@@ -44,15 +44,16 @@ fn touch_distance(t: f32, eps: f32) -> f32 {
     return 0.01 * eps;
 }
 
-// Refines a hit found within the surface threshold (distance d0 at t0) to the surface itself.
+// The refinement of a hit found within the surface threshold (distance d0 at t0) to the
+// surface itself (`refine_start`, then `refine_next` and `refine_sampled` in turn).
 // In front of the surface (d > 0) each step goes at least the plain step t + d (a distance
 // bound never overestimates, so the surface is at least that far) and follows the secant
 // through the last two samples where it goes further, at most 256 plain steps: the secant
 // converges fast where the ray meets the surface at a grazing angle. Once a sample lies behind
 // the surface (d <= 0) the surface is bracketed and Illinois-style false position narrows the
 // bracket. If the distance grows again while still positive, the ray passes the surface by
-// within the threshold without meeting it: that is no hit, and marching goes on (`hit`
-// false) from the last sample, or from the end of the stretch the samples' unbounding
+// within the threshold without meeting it: that is no hit, and marching goes on
+// (`REFINE_PASS`) from the last sample, or from the end of the stretch the samples' unbounding
 // spheres cover where that is further, but never beyond a gap longer than the threshold that
 // a secant step left unsampled (see `gap`). A ray that starts inside a shape (d0 <= 0 at t0 = 0)
 // hits at t = 0; t never goes behind its origin.
@@ -73,128 +74,170 @@ fn touch_distance(t: f32, eps: f32) -> f32 {
 // rounding noise is as large as the threshold, passing by would crawl on in tiny steps until
 // the step budget runs out. A pass told by the samples' rise after their minimum is decided
 // by `touch_distance` instead (finer for a trusted distance).
-fn refine(ro: vec3<f32>, rd: vec3<f32>, t0: f32, d0: f32, steps0: u32, eps: f32) -> Hit {
-    var steps = steps0;
-    if d0 <= 0.0 && t0 <= 0.0 {
-        return Hit(0.0, steps, true);
+//
+// What `refine_next` asks for: a sample at the state's t, or the end of the refinement, a hit
+// at t or a pass by (marching goes on from t).
+const REFINE_SAMPLE: u32 = 0u;
+const REFINE_HIT: u32 = 1u;
+const REFINE_PASS: u32 = 2u;
+
+// A refinement under way (`refine` in `shaders/refine.wgsl`, or the march's own loop in
+// `shaders/march_merged.wgsl`): the newest sample (t, d), the one before it (tp, dp) and the
+// one before that (tq, dq, put back with it if a secant step is refused), the nearest sample
+// known in front (ta, da > 0) and, once bracketed, the nearest behind (tb, db <= 0), with
+// `side` the one last moved; the first sample's distance d0 and the threshold eps; `reach`,
+// the end of the stretch the samples' unbounding spheres cover; `gap`, where the first gap
+// longer than the threshold that a secant step left unsampled begins (3e38: none); `dmin`,
+// the least distance in front, at `tmin`; `cap`, the longest secant step in plain steps;
+// `i`, the samples taken; and whether the last step was a secant step. A secant step that
+// leaves a gap is a bet that the samples close in on a surface; if they pass one by
+// instead, the gap is unexplored, and marching goes on from its start: a secant from a
+// sample near one shape to one near another skipped a shape between them whole (a hole in
+// the 300-shape grid from close by, docs/performance.md).
+struct Refining {
+    t: f32,
+    d: f32,
+    tp: f32,
+    dp: f32,
+    tq: f32,
+    dq: f32,
+    ta: f32,
+    da: f32,
+    tb: f32,
+    db: f32,
+    bracketed: bool,
+    side: i32,
+    d0: f32,
+    eps: f32,
+    reach: f32,
+    gap: f32,
+    dmin: f32,
+    tmin: f32,
+    cap: f32,
+    i: u32,
+    secant_step: bool,
+}
+
+// The refinement of a sample within the threshold eps, distance d0 at t0 (not behind the
+// ray's origin: `refine` hits at once there).
+fn refine_start(t0: f32, d0: f32, eps: f32) -> Refining {
+    return Refining(t0, d0, t0, d0, t0, d0, t0, d0, t0, d0, d0 <= 0.0, 0, d0, eps, t0 + d0,
+        3.0e38, d0, t0, 256.0, 0u, false);
+}
+
+// The refinement's next move from its newest sample: the end (a hit or a pass by, at r.t),
+// or the next sample's t in r.t.
+fn refine_next(r: ptr<function, Refining>) -> u32 {
+    let t = (*r).t;
+    let d = (*r).d;
+    if (*r).i >= 20u {
+        if !(*r).bracketed && (*r).dmin > 0.01 * (*r).eps {
+            // Out of iterations in front of the surface, never within a hundredth of the
+            // threshold: no crossing found yet, so marching goes on.
+            (*r).t = min(max((*r).reach, t), (*r).gap);
+            return REFINE_PASS;
+        }
+        // Bracketed: the crossing. Touching without a crossing: the sample nearest the
+        // surface (the last one could be further on, where the ray has left the surface:
+        // 0.24 from a sphere passed by 5e-4, tests/passing_by.rs).
+        (*r).t = select(t, (*r).tmin, !(*r).bracketed);
+        return REFINE_HIT;
     }
-    // The nearest sample known to be in front (ta, da > 0) and, once bracketed, the nearest
-    // sample behind (tb, db <= 0).
-    var ta = t0;
-    var da = d0;
-    var tb = t0;
-    var db = d0;
-    var bracketed = d0 <= 0.0;
-    var side = 0;
-    var t = t0;
-    var d = d0;
-    var tp = t0;
-    var dp = d0;
-    var reach = t0 + d0;
-    // Where the first gap longer than the threshold that a secant step left unsampled begins
-    // (3e38: none). Such a step is taken as a bet that the samples close in on a surface
-    // (its distance fell below a tenth of the last); if they pass one by instead, the
-    // gap is unexplored, and marching goes on from its start: a secant from a sample near
-    // one shape to one near another skipped a shape between them whole (a hole in the
-    // 300-shape grid from close by, docs/performance.md).
-    var gap = 3.0e38;
-    var dmin = d0;
-    var tmin = t0;
-    // The longest secant step, in plain steps.
-    var cap = 256.0;
-    for (var i = 0u; i < 20u; i = i + 1u) {
-        // Converged: d below 1e-7 of max(t, 1), and (from the second sample on) t within 1e-6
-        // of t of the surface by the slope of the last two samples: at a grazing angle a
-        // distance of 1e-7 t still left t off by 3.5e-6 t, and near the camera (tiny_huge,
-        // t = 0.03) a distance of 1e-7 left it off by 4e-5 t.
-        let near = abs(d) <= 1e-7 * max(t, 1.0);
-        if near && (i == 0u || abs(d * (t - tp)) <= 1e-6 * t * abs(d - dp)) {
-            return Hit(t, steps, true);
+    // Converged: d below 1e-7 of max(t, 1), and (from the second sample on) t within 1e-6 of
+    // t of the surface by the slope of the last two samples: at a grazing angle a distance of
+    // 1e-7 t still left t off by 3.5e-6 t, and near the camera (tiny_huge, t = 0.03) a
+    // distance of 1e-7 left it off by 4e-5 t.
+    let near = abs(d) <= 1e-7 * max(t, 1.0);
+    if near && ((*r).i == 0u || abs(d * (t - (*r).tp)) <= 1e-6 * t * abs(d - (*r).dp)) {
+        return REFINE_HIT;
+    }
+    var next = t + d;
+    var secant_step = false;
+    if (*r).bracketed && (*r).da > 0.0 && (*r).tb > (*r).ta {
+        // False position inside the bracket; the midpoint if it degenerates.
+        let ta = (*r).ta;
+        let tb = (*r).tb;
+        next = tb - (*r).db * (tb - ta) / ((*r).db - (*r).da);
+        if !(next > ta && next < tb) {
+            next = 0.5 * (ta + tb);
         }
-        var next = t + d;
-        var secant_step = false;
-        if bracketed && da > 0.0 && tb > ta {
-            // False position inside the bracket; the midpoint if it degenerates.
-            next = tb - db * (tb - ta) / (db - da);
-            if !(next > ta && next < tb) {
-                next = 0.5 * (ta + tb);
-            }
-        } else if !bracketed && i > 0u {
-            let slope = d - dp;
-            if slope >= 0.0 && dmin > touch_distance(t, eps) {
-                // Closest approach passed without a crossing: no surface here. Nearer than
-                // `touch_distance` the samples go on and the ray counts as touching: for a
-                // trusted distance only rounding's few steps of t (a hundredth of the pixel
-                // threshold made false hits at silhouettes: 19 in the 300-shape grid from
-                // close by at 256x192), for an estimate a hundredth of the threshold (the
-                // mandelbulb's rises while its surface is still ahead).
-                return Hit(min(max(reach, t), gap), steps, false);
-            }
-            let secant = t - d * (t - tp) / slope;
-            if slope < 0.0 && secant > next {
-                next = min(secant, t + cap * d);
-                secant_step = next > t + d;
-            }
+    } else if !(*r).bracketed && (*r).i > 0u {
+        let slope = d - (*r).dp;
+        if slope >= 0.0 && (*r).dmin > touch_distance(t, (*r).eps) {
+            // Closest approach passed without a crossing: no surface here. Nearer than
+            // `touch_distance` the samples go on and the ray counts as touching: for a
+            // trusted distance only rounding's few steps of t (a hundredth of the pixel
+            // threshold made false hits at silhouettes: 19 in the 300-shape grid from close
+            // by at 256x192), for an estimate a hundredth of the threshold (the mandelbulb's
+            // rises while its surface is still ahead).
+            (*r).t = min(max((*r).reach, t), (*r).gap);
+            return REFINE_PASS;
         }
-        // The sample before (tp, dp), put back with it if this step is not taken.
-        let tq = tp;
-        let dq = dp;
-        tp = t;
-        dp = d;
-        t = max(next, 0.0);
-        d = scene_distance(ro + rd * t);
-        steps = steps + 1u;
-        if secant_step && t - abs(d) > tp + dp + eps && abs(d) > 0.1 * dp {
-            cap = 0.25 * (t - tp) / dp;
-            t = tp;
-            d = dp;
-            tp = tq;
-            dp = dq;
-            continue;
-        }
-        if secant_step && t - abs(d) > tp + dp + eps {
-            gap = min(gap, tp + dp);
-        }
-        cap = min(4.0 * cap, 256.0);
-        if d > 0.0 {
-            if t - d <= reach {
-                reach = max(reach, t + d);
-            }
-            if d < dmin {
-                dmin = d;
-                tmin = t;
-            }
-            if !bracketed || t > ta {
-                if side == 1 {
-                    db = 0.5 * db;
-                }
-                ta = t;
-                da = d;
-                side = 1;
-            }
-        } else {
-            if !bracketed || t < tb {
-                if side == -1 {
-                    da = 0.5 * da;
-                }
-                tb = t;
-                db = d;
-                side = -1;
-            }
-            if !bracketed && d0 > 0.0 {
-                ta = tp;
-                da = dp;
-            }
-            bracketed = true;
+        let secant = t - d * (t - (*r).tp) / slope;
+        if slope < 0.0 && secant > next {
+            next = min(secant, t + (*r).cap * d);
+            secant_step = next > t + d;
         }
     }
-    if !bracketed && dmin > 0.01 * eps {
-        // Out of iterations in front of the surface, never within a hundredth of the
-        // threshold: no crossing found yet, so marching goes on.
-        return Hit(min(max(reach, t), gap), steps, false);
+    (*r).secant_step = secant_step;
+    (*r).tq = (*r).tp;
+    (*r).dq = (*r).dp;
+    (*r).tp = t;
+    (*r).dp = d;
+    (*r).t = max(next, 0.0);
+    return REFINE_SAMPLE;
+}
+
+// The refinement's state after its sample d at r.t.
+fn refine_sampled(r: ptr<function, Refining>, d: f32) {
+    let t = (*r).t;
+    let tp = (*r).tp;
+    let dp = (*r).dp;
+    (*r).i = (*r).i + 1u;
+    let leaves_gap = (*r).secant_step && t - abs(d) > tp + dp + (*r).eps;
+    if leaves_gap && abs(d) > 0.1 * dp {
+        // A refused secant step: back to the sample before it, and a quarter of the length.
+        (*r).cap = 0.25 * (t - tp) / dp;
+        (*r).t = tp;
+        (*r).d = dp;
+        (*r).tp = (*r).tq;
+        (*r).dp = (*r).dq;
+        return;
     }
-    // Bracketed: the crossing. Touching without a crossing: the sample nearest the surface
-    // (the last one could be further on, where the ray has left the surface: 0.24 from a
-    // sphere passed by 5e-4, tests/passing_by.rs).
-    return Hit(select(t, tmin, !bracketed), steps, true);
+    if leaves_gap {
+        (*r).gap = min((*r).gap, tp + dp);
+    }
+    (*r).cap = min(4.0 * (*r).cap, 256.0);
+    (*r).d = d;
+    if d > 0.0 {
+        if t - d <= (*r).reach {
+            (*r).reach = max((*r).reach, t + d);
+        }
+        if d < (*r).dmin {
+            (*r).dmin = d;
+            (*r).tmin = t;
+        }
+        if !(*r).bracketed || t > (*r).ta {
+            if (*r).side == 1 {
+                (*r).db = 0.5 * (*r).db;
+            }
+            (*r).ta = t;
+            (*r).da = d;
+            (*r).side = 1;
+        }
+    } else {
+        if !(*r).bracketed || t < (*r).tb {
+            if (*r).side == -1 {
+                (*r).da = 0.5 * (*r).da;
+            }
+            (*r).tb = t;
+            (*r).db = d;
+            (*r).side = -1;
+        }
+        if !(*r).bracketed && (*r).d0 > 0.0 {
+            (*r).ta = tp;
+            (*r).da = dp;
+        }
+        (*r).bracketed = true;
+    }
 }

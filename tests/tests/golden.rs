@@ -379,11 +379,12 @@ fn instances_union_wgsl() {
     let end = mat + c.wgsl[mat..].find("\n}\n").expect("its end") + 3;
     insta::assert_snapshot!("instances_union.wgsl", &c.wgsl[start..end]);
     // Each march lists the instances its ray passes first; the march, the refinement and the
-    // normal sample through that list (`shaders/instances_rays.wgsl`); the tetrahedron
-    // normal's fifth sample finds the material's instance (`end_leaf`).
+    // normal sample through that list (`shaders/instances_rays.wgsl`), the march and the
+    // refinement in one loop (`shaders/march_merged.wgsl`); the tetrahedron normal's fifth
+    // sample finds the material's instance (`end_leaf`).
     assert!(c.wgsl.contains("ray_start(ro, rd, span.x, span.y, pixel);"));
     assert_eq!(c.wgsl.matches("fn march_listed(").count(), 1);
-    assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 2);
+    assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 1);
     assert!(c
         .wgsl
         .contains("normal_nearest(select(p + k[i & 3u] * h, end, i == 4u))"));

@@ -166,6 +166,8 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
     s += "\n";
     s += &runtime(parts::HIT);
     s += "\n";
+    s += &runtime(parts::REFINE);
+    s += "\n";
     s += &runtime(parts::MARCH_RELAXED);
     s += "\n";
     s += &runtime(parts::CAMERA);

@@ -1,0 +1,52 @@
+// Plain sphere tracing with refinement in the same loop: each trip takes one sample, and the
+// state says whether it is a step of the march (`march_sampled`) or of the refinement
+// (`refine_start`, `refine_next`, `refine_sampled`). The same samples in the same order as
+// the two-loop marcher (`shaders/march_plain.wgsl`), so the same steps and pictures, with one
+// copy of the distance instead of two. Emitted where the distance is dear, a union read as
+// data (a walk of the ray's list): llvmpipe runs a loop's first trip and an `if`'s body under
+// masks where no lane needs them, so the refinement's loop cost a masked walk at every
+// march, and the 300-shape grid drew 1.08x to 1.14x faster so on lavapipe. Where the
+// distance is cheap the refinement's arithmetic, masked at every step, costs more (spec
+// section 10 0.77x): docs/performance.md, "The marcher's two loops".
+fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
+    // Only the stretch inside the scene's bounds can hold a surface.
+    let span = ray_span(ro, rd);
+    var s = Stepping(span.x, false, false, 0.0, 0.0, false);
+    var steps = 0u;
+    // Whether a sample within the threshold is being refined, and the refinement's state.
+    var refining = false;
+    var r = refine_start(0.0, 0.0, 0.0);
+    loop {
+        if refining {
+            let next = refine_next(&r);
+            if next == REFINE_HIT {
+                // A surface refined to beyond MAX_DISTANCE is out of range: a miss.
+                return Hit(r.t, steps, r.t <= MAX_DISTANCE);
+            }
+            if next == REFINE_PASS {
+                march_passed(&s, r.t);
+                refining = false;
+            }
+        }
+        if !refining && (steps >= MAX_STEPS || s.t > span.y) {
+            break;
+        }
+        let t = select(s.t, r.t, refining);
+        let d = scene_distance(ro + rd * t);
+        steps = steps + 1u;
+        if refining {
+            refine_sampled(&r, d);
+            continue;
+        }
+        let eps = march_sampled(&s, d, pixel);
+        if eps >= 0.0 {
+            if d <= 0.0 && t <= 0.0 {
+                // A ray that starts inside a shape hits at its origin.
+                return Hit(0.0, steps, true);
+            }
+            r = refine_start(t, d, eps);
+            refining = true;
+        }
+    }
+    return march_end(s.t, steps, s.passing && s.close);
+}

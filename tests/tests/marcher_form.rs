@@ -1,0 +1,45 @@
+//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): a union read as data, whose
+//! distance is a walk of the ray's list, refines in the march's stepping loop
+//! (`shaders/march_merged.wgsl`: one copy of that walk in the march, not two), while the
+//! code form and relaxation refine in a loop of their own (`shaders/refine.wgsl`). Both
+//! forms draw the same pictures (the data form's render tests against the code and the f64
+//! reference); this checks the choice and the copies, which a change to the emitter could
+//! silently undo.
+
+use sdfc_tests::grid_scene;
+use sdfc_wgsl::{compile, Options, AUTO_INSTANCES};
+
+/// The emitted WGSL of the generated grid of `n` shapes, with `render` appended.
+fn wgsl(n: usize, render: &str) -> String {
+    let source = format!("{}\n{render}\n", grid_scene(n));
+    compile(&source, &Options::default())
+        .unwrap_or_else(|f| panic!("grid of {n}: {f}"))
+        .wgsl
+}
+
+#[test]
+fn a_union_read_as_data_refines_in_the_stepping_loop() {
+    let merged = wgsl(AUTO_INSTANCES, "");
+    assert!(merged.contains("fn march_listed("), "not the data form");
+    // One sample of the ray's list in the march: the stepping loop's, which refinement
+    // shares.
+    assert_eq!(merged.matches("march_distance(ro + rd * t, t)").count(), 1);
+    assert!(merged.contains("r = refine_start(t, d, eps);"));
+    // No refinement loop of its own, so no dead copy of it either.
+    assert!(!merged.contains("fn refine("));
+}
+
+#[test]
+fn relaxation_and_the_code_form_refine_in_a_loop_of_their_own() {
+    let relaxed = wgsl(AUTO_INSTANCES, "render { relaxation: 1.6 }");
+    assert!(relaxed.contains("fn march_listed("), "not the data form");
+    assert!(relaxed.contains("fn refine("));
+    assert_eq!(relaxed.matches("march_distance(ro + rd * t, t)").count(), 2);
+    assert!(!relaxed.contains("r = refine_start(t, d, eps);"));
+
+    let code = wgsl(AUTO_INSTANCES - 1, "");
+    assert!(!code.contains("scene_data"), "not the code form");
+    assert!(code.contains("fn refine("));
+    assert_eq!(code.matches("scene_distance(ro + rd * t)").count(), 2);
+    assert!(!code.contains("r = refine_start(t, d, eps);"));
+}

@@ -1,10 +1,11 @@
-//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): a union read as data, whose
-//! distance is a walk of the ray's list, refines in the march's stepping loop
-//! (`shaders/march_merged.wgsl`: one copy of that walk in the march, not two), while the
-//! code form and relaxation refine in a loop of their own (`shaders/refine.wgsl`). Both
-//! forms draw the same pictures (the data form's render tests against the code and the f64
-//! reference); this checks the choice and the copies, which a change to the emitter could
-//! silently undo.
+//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): where the distance is dear
+//! (a union read as data, whose distance is a walk of the ray's list; noise, a fractal, a
+//! union of dozens of shapes as code) the march refines in its stepping loop
+//! (`shaders/march_merged.wgsl`: one copy of the distance in the march, not two), while a
+//! cheap distance and relaxation refine in a loop of their own (`shaders/refine.wgsl`). Both
+//! draw the same pictures (the render tests against the f64 reference; docs/performance.md
+//! measured them bit for bit); this checks the choice and the copies, which a change to the
+//! emitter could silently undo.
 
 use sdfc_tests::grid_scene;
 use sdfc_wgsl::{compile, Options, AUTO_INSTANCES};
@@ -30,16 +31,24 @@ fn a_union_read_as_data_refines_in_the_stepping_loop() {
 }
 
 #[test]
-fn relaxation_and_the_code_form_refine_in_a_loop_of_their_own() {
+fn a_dear_union_as_code_refines_in_the_stepping_loop_and_a_cheap_one_in_its_own() {
+    let dear = wgsl(AUTO_INSTANCES - 1, "");
+    assert!(!dear.contains("scene_data"), "not the code form");
+    assert_eq!(dear.matches("scene_distance(ro + rd * t)").count(), 1);
+    assert!(dear.contains("r = refine_start(t, d, eps);"));
+    assert!(!dear.contains("fn refine("));
+
+    let cheap = wgsl(8, "");
+    assert!(cheap.contains("fn refine("));
+    assert_eq!(cheap.matches("scene_distance(ro + rd * t)").count(), 2);
+    assert!(!cheap.contains("r = refine_start(t, d, eps);"));
+}
+
+#[test]
+fn relaxation_refines_in_a_loop_of_its_own() {
     let relaxed = wgsl(AUTO_INSTANCES, "render { relaxation: 1.6 }");
     assert!(relaxed.contains("fn march_listed("), "not the data form");
     assert!(relaxed.contains("fn refine("));
     assert_eq!(relaxed.matches("march_distance(ro + rd * t, t)").count(), 2);
     assert!(!relaxed.contains("r = refine_start(t, d, eps);"));
-
-    let code = wgsl(AUTO_INSTANCES - 1, "");
-    assert!(!code.contains("scene_data"), "not the code form");
-    assert!(code.contains("fn refine("));
-    assert_eq!(code.matches("scene_distance(ro + rd * t)").count(), 2);
-    assert!(!code.contains("r = refine_start(t, d, eps);"));
 }

@@ -36,6 +36,7 @@
 //! caller may set. With an import path, a naga_oil `#define_import_path` line comes first.
 
 pub mod consts;
+mod dear;
 pub mod eval_shader;
 pub mod func;
 pub mod instances;

@@ -4,8 +4,8 @@
 // distance to their stretch, and the rest of the union cannot come near the ray. The list
 // holds at most RAY_LIST entries, every one that enters before `ray_cut` (the nearest entry
 // of those left out): from the cut on, the walk over the whole hierarchy answers. On
-// lavapipe this drew the 300-shape grid 4.5x to 5.5x faster than its code (the same
-// marcher), where the walk at every step ran at 0.43x from close by (docs/performance.md,
+// lavapipe this drew the 300-shape grid 3.7x to 5.5x faster than its code (the same
+// marcher on both sides), where the walk at every step ran at 0.43x from close by (docs/performance.md,
 // "Culling per ray").
 const RAY_LIST: u32 = 32u;
 

@@ -40,7 +40,7 @@ pub enum Instances {
 /// the same size whatever the count (0.6 s to build on lavapipe), the code's grows with the
 /// shapes on every driver measured (lavapipe 1.4 s for 300 shapes, the H200 3.4 s, both more
 /// than a minute for 5 000), and with its rays' lists the data form draws faster (the
-/// 300-shape grid 4.5x to 5.5x on lavapipe, the same marcher). `sdfc render` at its default
+/// 300-shape grid 3.7x to 5.5x on lavapipe, the same marcher). `sdfc render` at its default
 /// 512x512 on lavapipe, Mesa's cache off, took as long either way at 130 to 160 shapes (code
 /// 0.62 to 0.93 s, data 0.68 to 0.80 s), and with the cache warm the data form was 1.5x to
 /// 2.5x faster from 100 shapes up. docs/performance.md, "Data by default" and "From 150

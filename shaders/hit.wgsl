@@ -85,7 +85,8 @@ const REFINE_PASS: u32 = 2u;
 // `shaders/march_merged.wgsl`): the newest sample (t, d), the one before it (tp, dp) and the
 // one before that (tq, dq, put back with it if a secant step is refused), the nearest sample
 // known in front (ta, da > 0) and, once bracketed, the nearest behind (tb, db <= 0), with
-// `side` the one last moved; the first sample's distance d0 and the threshold eps; `reach`,
+// `side` the one last moved (bracketed from the first sample behind on: a first sample
+// behind the surface starts bracketed); the threshold eps; `reach`,
 // the end of the stretch the samples' unbounding spheres cover; `gap`, where the first gap
 // longer than the threshold that a secant step left unsampled begins (3e38: none); `dmin`,
 // the least distance in front, at `tmin`; `cap`, the longest secant step in plain steps;
@@ -107,7 +108,6 @@ struct Refining {
     db: f32,
     bracketed: bool,
     side: i32,
-    d0: f32,
     eps: f32,
     reach: f32,
     gap: f32,
@@ -118,11 +118,10 @@ struct Refining {
     secant_step: bool,
 }
 
-// The refinement of a sample within the threshold eps, distance d0 at t0 (not behind the
-// ray's origin: `refine` hits at once there).
+// The refinement of a sample within the threshold eps, distance d0 at t0.
 fn refine_start(t0: f32, d0: f32, eps: f32) -> Refining {
-    return Refining(t0, d0, t0, d0, t0, d0, t0, d0, t0, d0, d0 <= 0.0, 0, d0, eps, t0 + d0,
-        3.0e38, d0, t0, 256.0, 0u, false);
+    return Refining(t0, d0, t0, d0, t0, d0, t0, d0, t0, d0, d0 <= 0.0, 0, eps, t0 + d0, 3.0e38,
+        d0, t0, 256.0, 0u, false);
 }
 
 // The refinement's next move from its newest sample: the end (a hit or a pass by, at r.t),
@@ -130,6 +129,11 @@ fn refine_start(t0: f32, d0: f32, eps: f32) -> Refining {
 fn refine_next(r: ptr<function, Refining>) -> u32 {
     let t = (*r).t;
     let d = (*r).d;
+    if (*r).i == 0u && d <= 0.0 && t <= 0.0 {
+        // A ray that starts inside a shape hits at its origin (t never goes behind it).
+        (*r).t = 0.0;
+        return REFINE_HIT;
+    }
     if (*r).i >= 20u {
         if !(*r).bracketed && (*r).dmin > 0.01 * (*r).eps {
             // Out of iterations in front of the surface, never within a hundredth of the
@@ -234,7 +238,7 @@ fn refine_sampled(r: ptr<function, Refining>, d: f32) {
             (*r).db = d;
             (*r).side = -1;
         }
-        if !(*r).bracketed && (*r).d0 > 0.0 {
+        if !(*r).bracketed {
             (*r).ta = tp;
             (*r).da = dp;
         }

@@ -41,10 +41,6 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         }
         let eps = march_sampled(&s, d, pixel);
         if eps >= 0.0 {
-            if d <= 0.0 && t <= 0.0 {
-                // A ray that starts inside a shape hits at its origin.
-                return Hit(0.0, steps, true);
-            }
             r = refine_start(t, d, eps);
             refining = true;
         }

@@ -74,18 +74,18 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     s += &distance_trusted(view.trusted);
     s += "\n";
-    let part = marcher_part(scene, view);
-    if part != parts::MARCH_MERGED {
+    let marcher = Marcher::for_scene(scene, view);
+    if marcher != Marcher::Merged {
         // The two-loop marchers' refinement loop (the merged one refines in its own).
         s += &sampled(parts::REFINE, view);
         s += "\n";
     }
-    if part != parts::MARCH_RELAXED {
+    if marcher != Marcher::Relaxed {
         // The plain march's step, which the relaxed marcher takes its own way.
         s += parts::MARCH_STEP;
         s += "\n";
     }
-    let march = sampled(part, view);
+    let march = sampled(marcher.part(), view);
     if view.ray_lists {
         s += &march.replacen("fn march(", "fn march_listed(", 1);
         s += MARCH_LISTED;
@@ -148,13 +148,30 @@ pub fn emit(scene: &Scene, view: &View) -> String {
 /// distance's march pays more for refinement's masked arithmetic at every step than for the
 /// second copy: spec section 10 0.77x merged; docs/performance.md, "The marcher's two
 /// loops").
-fn marcher_part(scene: &Scene, view: &View) -> &'static str {
-    if scene.render.relaxation > 1.0 {
-        parts::MARCH_RELAXED
-    } else if view.dear {
-        parts::MARCH_MERGED
-    } else {
-        parts::MARCH_PLAIN
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Marcher {
+    Plain,
+    Merged,
+    Relaxed,
+}
+
+impl Marcher {
+    fn for_scene(scene: &Scene, view: &View) -> Marcher {
+        if scene.render.relaxation > 1.0 {
+            Marcher::Relaxed
+        } else if view.dear {
+            Marcher::Merged
+        } else {
+            Marcher::Plain
+        }
+    }
+
+    fn part(self) -> &'static str {
+        match self {
+            Marcher::Plain => parts::MARCH_PLAIN,
+            Marcher::Merged => parts::MARCH_MERGED,
+            Marcher::Relaxed => parts::MARCH_RELAXED,
+        }
     }
 }
 

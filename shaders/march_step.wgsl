@@ -1,10 +1,11 @@
-// The plain march's state between samples (`shaders/march_plain.wgsl` and
-// `shaders/march_merged.wgsl`): where the next sample is taken; whether the last sample was a
-// surface passed by within the threshold (`passing`), and whether that pass still hugs the
-// surface (`close`: the last sample within a tenth of the threshold; out of steps then is a
-// hit, `march_end`, and further out it is not); while passing, the distance of the last
-// sample, the over-relaxed step taken from it (0 after a plain step), and whether such
-// steps are still tried (`leap`: not after one failed).
+// The plain march's state between samples (the marchers' loops, `shaders/march_two_loops.wgsl`
+// and `shaders/march_merged.wgsl`, take their steps through it; relaxation's steps are
+// `shaders/march_step_relaxed.wgsl`'s): where the next sample is taken; whether the last
+// sample was a surface passed by within the threshold (`passing`), and whether that pass
+// still hugs the surface (`close`: the last sample within a tenth of the threshold; out of
+// steps then is a hit, `march_end`, and further out it is not); while passing, the distance
+// of the last sample, the over-relaxed step taken from it (0 after a plain step), and
+// whether such steps are still tried (`leap`: not after one failed).
 struct Stepping {
     t: f32,
     passing: bool,
@@ -12,6 +13,11 @@ struct Stepping {
     last: f32,
     jump: f32,
     leap: bool,
+}
+
+// The state before the first sample: at the start of the ray's stretch `span` (`ray_span`).
+fn march_start(span: vec2<f32>) -> Stepping {
+    return Stepping(span.x, false, false, 0.0, 0.0, false);
 }
 
 // The plain march's step after its sample d at s.t: the threshold there where the sample is

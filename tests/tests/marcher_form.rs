@@ -2,7 +2,8 @@
 //! (a union read as data, whose distance is a walk of the ray's list; noise, a fractal, a
 //! union of dozens of shapes as code) the march refines in its stepping loop
 //! (`shaders/march_merged.wgsl`: one copy of the distance in the march, not two), while a
-//! cheap distance and relaxation refine in a loop of their own (`shaders/refine.wgsl`). Both
+//! cheap distance refines in a loop of its own (`shaders/refine.wgsl`), with the plain step
+//! or the relaxed one in either. Both
 //! draw the same pictures (the render tests against the f64 reference; docs/performance.md
 //! measured them bit for bit); this checks the choice and the copies, which a change to the
 //! emitter could silently undo.
@@ -44,11 +45,26 @@ fn a_dear_union_as_code_refines_in_the_stepping_loop_and_a_cheap_one_in_its_own(
     assert!(!cheap.contains("r = refine_start(t, d, eps);"));
 }
 
+/// The relaxed step's own text (`shaders/march_step_relaxed.wgsl`): its factor's rule.
+const RELAXED_STEP: &str = "0.95 * 2.0 / (1.0 + slope)";
+
 #[test]
-fn relaxation_refines_in_a_loop_of_its_own() {
-    let relaxed = wgsl(AUTO_INSTANCES, "render { relaxation: 1.6 }");
-    assert!(relaxed.contains("fn march_listed("), "not the data form");
-    assert!(relaxed.contains("fn refine("));
-    assert_eq!(relaxed.matches("march_distance(ro + rd * t, t)").count(), 2);
-    assert!(!relaxed.contains("r = refine_start(t, d, eps);"));
+fn relaxation_takes_its_step_in_either_loop() {
+    // A dear distance: the merged loop with the relaxed step, one sample of the list.
+    let dear = wgsl(AUTO_INSTANCES, "render { relaxation: 1.6 }");
+    assert!(dear.contains("fn march_listed("), "not the data form");
+    assert!(dear.contains(RELAXED_STEP));
+    assert_eq!(dear.matches("march_distance(ro + rd * t, t)").count(), 1);
+    assert!(dear.contains("r = refine_start(t, d, eps);"));
+    assert!(!dear.contains("fn refine("));
+    // A cheap one: two loops with the relaxed step.
+    let cheap = wgsl(8, "render { relaxation: 1.6 }");
+    assert!(cheap.contains(RELAXED_STEP));
+    assert!(cheap.contains("fn refine("));
+    assert_eq!(cheap.matches("scene_distance(ro + rd * t)").count(), 2);
+    // Only one step is emitted: without relaxation, the plain one alone.
+    assert_eq!(dear.matches("fn march_sampled(").count(), 1);
+    assert_eq!(cheap.matches("fn march_sampled(").count(), 1);
+    assert!(!wgsl(8, "").contains(RELAXED_STEP));
+    assert!(!wgsl(AUTO_INSTANCES, "").contains(RELAXED_STEP));
 }

@@ -1,4 +1,4 @@
-//! Over-relaxed sphere tracing (`relaxation: 1.6`, `shaders/march_relaxed.wgsl`) against the
+//! Over-relaxed sphere tracing (`relaxation: 1.6`, `shaders/march_step_relaxed.wgsl`) against the
 //! plain marcher on the same scenes at 64x48: fewer march steps per pixel (the steps AOV,
 //! exact), and no more hit/miss mismatches away from silhouettes against the f64 reference,
 //! no NaN/Inf. Step counts, not times: the test makes no timing claim.

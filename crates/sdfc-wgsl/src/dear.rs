@@ -1,6 +1,6 @@
 //! Whether a scene's distance is dear enough that its march refines in the stepping loop
 //! (`shaders/march_merged.wgsl`, one inlined copy of the distance) rather than in a loop of
-//! its own (`shaders/march_plain.wgsl`, two copies). llvmpipe runs a loop's first trip and an
+//! its own (`shaders/march_two_loops.wgsl`, two copies). llvmpipe runs a loop's first trip and an
 //! `if`'s body under masks where no lane needs them: the second copy costs a masked distance
 //! once a march, the merged loop refinement's arithmetic at every step. Measured on lavapipe
 //! (docs/performance.md, "The marcher's two loops"): merged, the 300-shape union's code drew

@@ -28,7 +28,7 @@ pub struct View<'a> {
     /// more finely (`touch_distance` in `shaders/hit.wgsl`).
     pub trusted: bool,
     /// Whether the march's distance is dear (a union read as data, or `dear::is_dear`): the
-    /// plain march then refines in its stepping loop (`shaders/march_merged.wgsl`).
+    /// march (plain or relaxed) then refines in its stepping loop (`shaders/march_merged.wgsl`).
     pub dear: bool,
 }
 
@@ -75,17 +75,14 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += &distance_trusted(view.trusted);
     s += "\n";
     let marcher = Marcher::for_scene(scene, view);
-    if marcher != Marcher::Merged {
-        // The two-loop marchers' refinement loop (the merged one refines in its own).
+    if !marcher.merged {
+        // The two-loop marcher's refinement loop (the merged one refines in its own).
         s += &sampled(parts::REFINE, view);
         s += "\n";
     }
-    if marcher != Marcher::Relaxed {
-        // The plain march's step, which the relaxed marcher takes its own way.
-        s += parts::MARCH_STEP;
-        s += "\n";
-    }
-    let march = sampled(marcher.part(), view);
+    s += marcher.step();
+    s += "\n";
+    let march = sampled(marcher.loops(), view);
     if view.ray_lists {
         s += &march.replacen("fn march(", "fn march_listed(", 1);
         s += MARCH_LISTED;
@@ -141,36 +138,42 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s
 }
 
-/// The marcher for the scene's settings: over-relaxed where `relaxation` asks for it; else
-/// plain, with refinement in the stepping loop where the distance is dear (`View::dear`: one
-/// copy of it instead of two; the union read as data 1.08x to 1.14x faster on lavapipe, the
-/// 300-shape union's code 1.31x to 1.34x) and in a loop of its own elsewhere (a cheap
-/// distance's march pays more for refinement's masked arithmetic at every step than for the
-/// second copy: spec section 10 0.77x merged; docs/performance.md, "The marcher's two
-/// loops").
+/// The march's two choices, each made once. Its step: over-relaxed where `relaxation` asks
+/// for it (`shaders/march_step_relaxed.wgsl`), else plain (`shaders/march_step.wgsl`); both
+/// have the same interface, so either loop takes either. Its loops: refinement in the
+/// stepping loop where the distance is dear (`View::dear`, `shaders/march_merged.wgsl`: one
+/// copy of the distance instead of two; the union read as data 1.08x to 1.14x faster on
+/// lavapipe, the 300-shape union's code 1.31x to 1.34x), in a loop of its own elsewhere
+/// (`shaders/march_two_loops.wgsl`: a cheap distance's march pays more for refinement's
+/// masked arithmetic at every step than for the second copy, spec section 10 0.77x merged;
+/// docs/performance.md, "The marcher's two loops").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Marcher {
-    Plain,
-    Merged,
-    Relaxed,
+struct Marcher {
+    relaxed: bool,
+    merged: bool,
 }
 
 impl Marcher {
     fn for_scene(scene: &Scene, view: &View) -> Marcher {
-        if scene.render.relaxation > 1.0 {
-            Marcher::Relaxed
-        } else if view.dear {
-            Marcher::Merged
-        } else {
-            Marcher::Plain
+        Marcher {
+            relaxed: scene.render.relaxation > 1.0,
+            merged: view.dear,
         }
     }
 
-    fn part(self) -> &'static str {
-        match self {
-            Marcher::Plain => parts::MARCH_PLAIN,
-            Marcher::Merged => parts::MARCH_MERGED,
-            Marcher::Relaxed => parts::MARCH_RELAXED,
+    fn step(self) -> &'static str {
+        if self.relaxed {
+            parts::MARCH_STEP_RELAXED
+        } else {
+            parts::MARCH_STEP
+        }
+    }
+
+    fn loops(self) -> &'static str {
+        if self.merged {
+            parts::MARCH_MERGED
+        } else {
+            parts::MARCH_TWO_LOOPS
         }
     }
 }
@@ -538,12 +541,7 @@ mod tests {
     /// to `normal_distance` for the list.
     #[test]
     fn every_ray_sampling_part_is_rewritten() {
-        for part in [
-            parts::REFINE,
-            parts::MARCH_PLAIN,
-            parts::MARCH_RELAXED,
-            parts::MARCH_MERGED,
-        ] {
+        for part in [parts::REFINE, parts::MARCH_TWO_LOOPS, parts::MARCH_MERGED] {
             for (v, call) in [
                 (view(true, false), "scene_distance_ray(ro + rd * t, rd)"),
                 (view(false, true), "march_distance(ro + rd * t, t)"),

@@ -35,8 +35,8 @@ pub fn helper(h: Helper) -> &'static str {
 pub const HIT: &str = include_str!("../../../shaders/hit.wgsl");
 pub const REFINE: &str = include_str!("../../../shaders/refine.wgsl");
 pub const MARCH_STEP: &str = include_str!("../../../shaders/march_step.wgsl");
-pub const MARCH_PLAIN: &str = include_str!("../../../shaders/march_plain.wgsl");
-pub const MARCH_RELAXED: &str = include_str!("../../../shaders/march_relaxed.wgsl");
+pub const MARCH_STEP_RELAXED: &str = include_str!("../../../shaders/march_step_relaxed.wgsl");
+pub const MARCH_TWO_LOOPS: &str = include_str!("../../../shaders/march_two_loops.wgsl");
 pub const MARCH_MERGED: &str = include_str!("../../../shaders/march_merged.wgsl");
 pub const CAMERA: &str = include_str!("../../../shaders/camera.wgsl");
 pub const MAIN: &str = include_str!("../../../shaders/main.wgsl");

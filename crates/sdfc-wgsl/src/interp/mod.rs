@@ -15,13 +15,21 @@
 //!   constants.
 //!
 //! The shader reuses the specialised shader's hand-written parts (hit refinement, the
-//! relaxed marcher, camera, ambient occlusion, reflections, entry point; the normals and
-//! shadows are `shaders/interpreter/scene.wgsl`'s, every method in one loop, so that the
-//! interpreter is inlined at as few calls as possible):
+//! relaxed step in the merged marcher, camera, ambient occlusion, reflections, entry point;
+//! the normals and shadows are `shaders/interpreter/scene.wgsl`'s, every method in one loop,
+//! so that the interpreter is inlined at as few calls as possible):
 //! each compile-time constant they name (`MAX_STEPS`, `CAMERA_POSITION`, ...) is rewritten
-//! to the frame's field ([`RUNTIME_SETTINGS`]). The relaxed marcher with `RELAXATION = 1` takes exactly the plain
-//! marcher's steps, and the reflection loop with `REFLECTIONS = 0` returns exactly the
-//! plain radiance, so one shader covers every setting.
+//! to the frame's field ([`RUNTIME_SETTINGS`]). The relaxed step with `RELAXATION = 1` takes
+//! the plain step's samples, but for the sample after a leap while receding from a pass
+//! (the relaxed step tests the spheres' overlap with |d| and then remembers the sample it
+//! took back, the plain one the last good one), and the reflection loop with `REFLECTIONS = 0`
+//! returns exactly the plain radiance, so one shader covers every setting.
+//!
+//! The interpreter's distance is the dearest there is (the whole bytecode loop), so its march
+//! refines in the stepping loop (`shaders/march_merged.wgsl`): one inlined copy of the
+//! interpreter in the march instead of two. On lavapipe that drew the suite 1.04x (spec
+//! section 10) to 1.79x (the 300-shape grid) faster, the same pictures and steps
+//! (docs/performance.md, "Relaxation in the merged marcher").
 
 pub mod encode;
 pub mod encode_instances;
@@ -166,9 +174,9 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
     s += "\n";
     s += &runtime(parts::HIT);
     s += "\n";
-    s += &runtime(parts::REFINE);
+    s += &runtime(parts::MARCH_STEP_RELAXED);
     s += "\n";
-    s += &runtime(parts::MARCH_RELAXED);
+    s += &runtime(parts::MARCH_MERGED);
     s += "\n";
     s += &runtime(parts::CAMERA);
     s += "\n";

@@ -1,6 +1,7 @@
-// Plain sphere tracing: step by the distance until it is below the surface threshold
-// (`march_sampled`). A hit is refined to the surface (see `refine`); a ray that only passes a
-// surface by within the threshold marches on.
+// Sphere tracing: step until a sample is below the surface threshold (`march_sampled`: the
+// plain step, `shaders/march_step.wgsl`, or the relaxed one, `shaders/march_step_relaxed.wgsl`).
+// A hit is refined to the surface (see `refine`); a ray that only passes a surface by within
+// the threshold marches on.
 //
 // Two loops: the inner one steps until a sample comes within the threshold, the outer one
 // refines it and marches on after a pass. Refinement is a loop of its own, and llvmpipe runs
@@ -10,7 +11,7 @@
 fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     // Only the stretch inside the scene's bounds can hold a surface.
     let span = ray_span(ro, rd);
-    var s = Stepping(span.x, false, false, 0.0, 0.0, false);
+    var s = march_start(span);
     var steps = 0u;
     loop {
         // Set when a sample comes within the threshold: its distance and the threshold.

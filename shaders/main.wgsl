@@ -1,8 +1,13 @@
 // The entry point: one invocation per pixel, n x n samples, colour packed as RGBA8 (row
 // major, top row first); with bit 0 of `frame.flags` set it also writes the AOVs of the
-// pixel centre's ray: (normal, depth) then (steps, 0, 0, 0), depth -1 on a miss.
+// pixel centre's ray: (normal, depth) then (steps, 0, 0, 0), depth -1 on a miss. Bits 8 to
+// 19 and 20 to 31 are the column and row of the dispatch's first 8x8 tile: a host may
+// dispatch only the tiles whose rays can meet the scene's bounds (the others only show the
+// background, and llvmpipe runs every line of the shader under masks for them).
 @compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(global_invocation_id) invocation: vec3<u32>) {
+    let first = vec2<u32>((frame.flags >> 8u) & 0xfffu, frame.flags >> 20u) * 8u;
+    let gid = invocation.xy + first;
     let size = frame.resolution;
     if gid.x >= size.x || gid.y >= size.y {
         return;
@@ -27,7 +32,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if i == samples {
             offset = vec2<f32>(0.5);
         }
-        let rd = camera_ray(vec2<f32>(gid.xy) + offset, fsize);
+        let rd = camera_ray(vec2<f32>(gid) + offset, fsize);
         let sample = radiance(CAMERA_POSITION, rd, pixel);
         if i < samples {
             color = color + sample.color;

@@ -183,6 +183,7 @@ pub fn run(a: Args) -> Outcome {
         time: 0.0,
         params: to_f32(&overrides),
         aovs: true,
+        ..RenderOptions::default()
     };
     let program = compiled.program();
     let sweep = settings(&program.scene.render);

@@ -83,6 +83,7 @@ pub fn draw(
         time: r.time,
         params: to_f32(&overrides),
         aovs: r.aov.is_some(),
+        ..RenderOptions::default()
     };
     let live = LiveOptions {
         start,

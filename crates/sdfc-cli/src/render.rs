@@ -429,6 +429,7 @@ pub fn run(a: Args) -> Outcome {
         time: a.time,
         params,
         aovs: a.aov.is_some() || a.compare,
+        ..RenderOptions::default()
     };
     let frame = if a.interpreted {
         if compiled.program().scene.render.normals == sdfc_ir::scene::Normals::Analytic {

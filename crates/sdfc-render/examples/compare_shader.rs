@@ -11,7 +11,9 @@
 //! (`scripts/bvh-experiment.py`); OTHER written `instances` is the scene compiled with
 //! `Options::instances` (its union as data). `SDFC_COMPARE_REFERENCE=1` also prints each
 //! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths
-//! differ (and, with the reference, those whose depths differ from its).
+//! differ (and, with the reference, those whose depths differ from its);
+//! `SDFC_COMPARE_ALL_PIXELS=1` runs the own (or base) shader on every pixel, the other on
+//! the tiles its rays can meet the scene in only (the renderer's default).
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -94,14 +96,23 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     // The other shader first: where the own one is slow to build (a large union on a CPU
     // device), the other's figures are printed before a time limit cuts the run short.
     let shaders = [("other shader", &other), (own, &base)];
-    let render = |(wgsl, data): &Shader| match data {
-        Some(bytes) => r.render_wgsl_with_data(compiled.program(), wgsl, bytes, &opts),
-        None => r.render_wgsl(compiled.program(), wgsl, &opts),
+    // `SDFC_COMPARE_ALL_PIXELS=1`: the own (or base) shader runs on every pixel, the other
+    // only on the tiles its rays can meet the scene in, as the renderer does by default.
+    let all_pixels = RenderOptions {
+        all_pixels: set("SDFC_COMPARE_ALL_PIXELS"),
+        ..opts.clone()
+    };
+    let render = |i: usize, (wgsl, data): &Shader| {
+        let opts = if i == 0 { &opts } else { &all_pixels };
+        match data {
+            Some(bytes) => r.render_wgsl_with_data(compiled.program(), wgsl, bytes, opts),
+            None => r.render_wgsl(compiled.program(), wgsl, opts),
+        }
     };
     let mut frames = Vec::new();
-    for (name, shader) in shaders {
+    for (i, (name, shader)) in shaders.into_iter().enumerate() {
         let start = Instant::now();
-        let frame = render(shader)?;
+        let frame = render(i, shader)?;
         let steps = frame.aovs.as_ref().map_or(0.0, |a| a.mean_steps());
         println!(
             "{name}: {} bytes, build and first render {:.2?}, {steps:.2} steps per pixel",
@@ -113,16 +124,16 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     // Both shaders drawn in turn for a while first (`sdfc_tests::warm_up`), then timed
     // interleaved frame by frame, so that neither is measured at a clock the other did not have.
     sdfc_tests::warm_up(|| {
-        for (_, shader) in shaders {
-            render(shader)?;
+        for (i, (_, shader)) in shaders.iter().enumerate() {
+            render(i, shader)?;
         }
         Ok::<_, sdfc_render::RenderError>(())
     })?;
     const FRAMES: usize = 21;
     let mut times = [(Vec::new(), Vec::new()), (Vec::new(), Vec::new())];
     for _ in 0..FRAMES {
-        for ((_, shader), (device, wall)) in shaders.iter().zip(&mut times) {
-            let f = render(shader)?;
+        for (i, ((_, shader), (device, wall))) in shaders.iter().zip(&mut times).enumerate() {
+            let f = render(i, shader)?;
             wall.push(f.wall_time);
             device.extend(f.device_time);
         }

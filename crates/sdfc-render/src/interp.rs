@@ -4,7 +4,7 @@
 
 use crate::device::Renderer;
 use crate::pipelines::Kind;
-use crate::render::header;
+use crate::tiles;
 use crate::{params, Frame, RenderError, RenderOptions};
 use sdfc_ir::scene::RenderSettings;
 use sdfc_ir::shape::{CombineOp, ShapeKind};
@@ -211,7 +211,9 @@ impl Renderer {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        let data = frame_data_with(program, settings, code, header(opts), &params);
+        // Only the tiles whose rays can meet the scene's bounds, as the specialised shader.
+        let plan = tiles::Dispatch::plan(program, opts, (gx, gy));
+        let data = frame_data_with(program, settings, code, plan.header, &params);
         let max = self.max_buffer_bytes();
         if data.code.len() as u64 > max || data.data.len() as u64 > max {
             return Err(RenderError::Interpreter(
@@ -233,8 +235,9 @@ impl Renderer {
                 ("sdfc scene data", &data.data),
             ],
             opts,
-            (gx, gy),
+            plan.groups,
         )?;
+        plan.finish(&mut frame);
         self.interpreter_warm[variant.index()].store(true, Ordering::Relaxed);
         let cut = sdfc_wgsl::interp::cut_pixels(&mut frame.rgba);
         Ok((frame, cut))

@@ -82,6 +82,7 @@ pub mod output;
 mod params;
 mod pipelines;
 mod render;
+mod tiles;
 
 pub use device::{quiet_headless_vulkan, AdapterDescription, Renderer};
 pub use error::RenderError;
@@ -106,6 +107,11 @@ pub struct RenderOptions {
     pub params: Vec<(String, Vec<f32>)>,
     /// Also bring back depth, world normal and march steps of each pixel's centre ray.
     pub aovs: bool,
+    /// Run the shader for every pixel. By default a frame of a scene with finite bounds
+    /// runs it only on the 8x8 tiles whose rays can meet them (`sdfc_wgsl::screen`) and gives
+    /// the other pixels the background of one that was run, the same picture bit for bit;
+    /// this is for comparisons and measurements of that.
+    pub all_pixels: bool,
 }
 
 impl RenderOptions {
@@ -128,6 +134,7 @@ impl Default for RenderOptions {
             time: 0.0,
             params: Vec::new(),
             aovs: false,
+            all_pixels: false,
         }
     }
 }

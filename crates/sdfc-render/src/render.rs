@@ -2,7 +2,7 @@
 
 use crate::device::{Renderer, Scopes};
 use crate::pipelines::Kind;
-use crate::{params, Aovs, Frame, RenderError, RenderOptions};
+use crate::{params, tiles, Aovs, Frame, RenderError, RenderOptions};
 use sdfc_ir::Program;
 use sdfc_wgsl::Compiled;
 use std::sync::mpsc;
@@ -183,8 +183,19 @@ impl Renderer {
             }
         };
         let pipeline = self.pipeline(kind, wgsl)?;
-        let frame = params::frame_bytes(header(opts), &params);
-        self.dispatch(&pipeline.pipeline, layout, &frame, &inputs, opts, (gx, gy))
+        // Only the tiles whose rays can meet the scene's bounds, where that is known.
+        let plan = tiles::Dispatch::plan(program, opts, (gx, gy));
+        let frame = params::frame_bytes(plan.header, &params);
+        let mut out = self.dispatch(
+            &pipeline.pipeline,
+            layout,
+            &frame,
+            &inputs,
+            opts,
+            plan.groups,
+        )?;
+        plan.finish(&mut out);
+        Ok(out)
     }
 
     /// Runs a render-interface pipeline over the image and reads the results back: the

@@ -31,6 +31,7 @@ fn pipelines_are_compiled_once_per_shader_text() {
             time: 2.0,
             params: vec![("r".into(), vec![0.5]), ("c".into(), vec![0.1, 0.2, 0.3])],
             aovs: true,
+            all_pixels: false,
         },
     )
     .unwrap();

@@ -6,13 +6,18 @@
 //! The renderer relies on this interface as written.
 //!
 //! - Entry point `main`, `@compute @workgroup_size(8, 8, 1)`; dispatch
-//!   `ceil(width / 8) x ceil(height / 8) x 1`. Invocation `(x, y)` shades pixel column `x`,
-//!   row `y` (row 0 at the top); invocations outside the image return at once.
+//!   `ceil(width / 8) x ceil(height / 8) x 1` (or fewer tiles: `flags` below). Invocation
+//!   `(x, y)` shades pixel column `x`, row `y` (row 0 at the top); invocations outside the
+//!   image return at once.
 //! - `@group(0) @binding(0) var<storage, read> frame: Frame` with
 //!   `struct Frame { resolution: vec2<u32>, time: f32, flags: u32, params: array<vec4<f32>, N> }`
 //!   (16 + 16 N bytes; `params` is absent when the scene has no `param`). Param `i` (declaration
 //!   order) sits in `params[i]`: a float in `.x`, a vec2 in `.xy`, a vec3 in `.xyz`.
-//!   `flags` bit 0 asks for AOVs.
+//!   `flags` bit 0 asks for AOVs; bits 8 to 19 and 20 to 31 are the column and row, in 8x8
+//!   tiles, of the dispatch's first workgroup (0 for the whole image): invocation `(x, y)`
+//!   then shades pixel `(x + 8 column, y + 8 row)`. A host may so dispatch only the tiles that
+//!   [`screen::screen_rect`] says rays can meet the scene in; every other pixel takes the
+//!   background, with the AOVs of a miss (depth -1, steps 0), the same as any one of them.
 //! - `@group(0) @binding(1) var<storage, read_write> color_out: array<u32>`: one `u32` per
 //!   pixel, index `y * width + x`, packed by `pack4x8unorm` (RGBA8, gamma applied, alpha 1).
 //! - `@group(0) @binding(2) var<storage, read_write> aov_out: array<vec4<f32>>`: two entries
@@ -47,6 +52,7 @@ pub mod material_index;
 pub mod module;
 mod options;
 pub mod parts;
+pub mod screen;
 pub mod validate;
 
 pub use options::{check_import_path, Instances, Options, AUTO_CROWD, AUTO_INSTANCES};

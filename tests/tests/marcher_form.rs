@@ -3,10 +3,9 @@
 //! union of dozens of shapes as code) the march refines in its stepping loop
 //! (`shaders/march_merged.wgsl`: one copy of the distance in the march, not two), while a
 //! cheap distance refines in a loop of its own (`shaders/refine.wgsl`), with the plain step
-//! or the relaxed one in either. Both
-//! draw the same pictures (the render tests against the f64 reference; docs/performance.md
-//! measured them bit for bit); this checks the choice and the copies, which a change to the
-//! emitter could silently undo.
+//! or the relaxed one in either. Both loops draw the same pictures (the render tests against
+//! the f64 reference; docs/performance.md measured them bit for bit); this checks the choice
+//! and the copies, which a change to the emitter could silently undo.
 
 use sdfc_tests::grid_scene;
 use sdfc_wgsl::{compile, Options, AUTO_INSTANCES};

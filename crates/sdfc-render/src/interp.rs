@@ -211,8 +211,10 @@ impl Renderer {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
+        let variant = Variant::of(code);
+        let wgsl = interpreter_wgsl(unroll, variant)?;
         // Only the tiles whose rays can meet the scene's bounds, as the specialised shader.
-        let plan = tiles::Dispatch::plan(program, opts, (gx, gy));
+        let plan = tiles::Dispatch::plan(program, wgsl, opts, (gx, gy));
         let data = frame_data_with(program, settings, code, plan.header, &params);
         let max = self.max_buffer_bytes();
         if data.code.len() as u64 > max || data.data.len() as u64 > max {
@@ -224,8 +226,7 @@ impl Renderer {
                 )),
             ));
         }
-        let variant = Variant::of(code);
-        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll, variant)?)?;
+        let pipeline = self.pipeline(Kind::Interpreted, wgsl)?;
         let mut frame = self.dispatch(
             &pipeline.pipeline,
             &self.interp_bind_layout,

@@ -41,8 +41,8 @@ impl Region {
 }
 
 /// The region to dispatch for a frame of `program`, or `None` for the whole image: where
-/// the scene's rectangle on the image is unknown or, with one tile more for the background
-/// pixel, would cover every tile. `opts.all_pixels` asks for the whole image.
+/// the scene's rectangle on the image is unknown or, with the tiles beside it that hold the
+/// background pixel, would cover every tile. `opts.all_pixels` asks for the whole image.
 pub(crate) fn region(program: &Program, opts: &RenderOptions) -> Option<Region> {
     if opts.all_pixels {
         return None;
@@ -61,7 +61,8 @@ pub(crate) fn region(program: &Program, opts: &RenderOptions) -> Option<Region> 
     } else {
         ((x0 / TILE, y0 / TILE), ((x1 - 1) / TILE, (y1 - 1) / TILE))
     };
-    // One more tile on a side with room holds a pixel off the rectangle: the background.
+    // One more column (or row) of tiles on a side with room holds a pixel off the rectangle:
+    // the background.
     let background = if empty {
         (0, 0)
     } else if first.0 > 0 {
@@ -99,10 +100,16 @@ pub(crate) struct Dispatch {
 }
 
 impl Dispatch {
-    /// The dispatch of a frame of `program` (`groups`: the whole image's size in tiles).
-    pub(crate) fn plan(program: &Program, opts: &RenderOptions, groups: (u32, u32)) -> Dispatch {
+    /// The dispatch of a frame of `program` by `wgsl` (`groups`: the whole image's size in
+    /// tiles); the whole image where the shader does not read its first tile.
+    pub(crate) fn plan(
+        program: &Program,
+        wgsl: &str,
+        opts: &RenderOptions,
+        groups: (u32, u32),
+    ) -> Dispatch {
         let mut header = header(opts);
-        let region = region(program, opts);
+        let region = region(program, opts).filter(|_| sdfc_wgsl::screen::reads_first_tile(wgsl));
         if let Some(r) = &region {
             header[3] = r.flags(header[3]);
         }
@@ -124,7 +131,10 @@ impl Dispatch {
     }
 }
 
-/// Gives every pixel outside `region` the colour and AOVs of its background pixel.
+/// Gives every pixel outside `region` the colour and AOVs of its background pixel. A ray
+/// that misses the scene's bounds brings back the background (`radiance`: `BACKGROUND`, the
+/// same for every ray, no fog), so every such pixel is the same; a background that varied
+/// with the ray (a sky) would need the shader run there.
 fn fill(frame: &mut Frame, region: &Region) {
     let w = frame.width;
     let (bx, by) = region.background;
@@ -197,6 +207,35 @@ mod tests {
             (off.first, off.count, off.background),
             ((0, 0), (1, 1), (0, 0))
         );
+    }
+
+    #[test]
+    fn the_background_comes_from_each_side_in_turn() {
+        let opts = RenderOptions::sized(64, 48);
+        // (scene, where its background pixel lies against the scene's rectangle)
+        for (scene, side) in [
+            ("sphere(1.2).translate([5.2, 0, 0])", "left"),
+            ("sphere(1.2).translate([-5.2, 0, 0])", "right"),
+            ("box([9, 0.4, 0.5]).translate([0, -3.2, 0])", "above"),
+            ("box([9, 0.4, 0.5]).translate([0, 3.9, 0])", "below"),
+        ] {
+            let p = program(scene);
+            let [x0, y0, x1, y1] = sdfc_wgsl::screen::screen_rect(&p, 64, 48).unwrap();
+            let r = region(&p, &opts).expect("a region");
+            let (bx, by) = r.background;
+            let found = if bx + TILE <= x0 {
+                "left"
+            } else if bx >= x1 {
+                "right"
+            } else if by + TILE <= y0 {
+                "above"
+            } else if by >= y1 {
+                "below"
+            } else {
+                "on the rectangle"
+            };
+            assert_eq!(found, side, "{scene}: {r:?}, rectangle {x0} {y0} {x1} {y1}");
+        }
     }
 
     #[test]

@@ -261,13 +261,27 @@ fn a_superseded_render_gives_up_without_its_frames() {
 fn a_grace_delays_the_preview_and_does_not_lose_it() {
     // A grace of 30 ms (longer than the live path's poll) against a 300-shape grid, whose
     // pipeline (WGSL emitted and validated twice, built, a pixel drawn) takes far longer
-    // than that: the preview is started after the grace, and drawn.
+    // than that: the preview is started after the grace, and drawn. The camera is moved by a
+    // hair from the clock, so that no earlier run has built this shader: from Mesa's disk
+    // cache the grid's pipeline was ready after 35 ms, and with the cores shared by the other
+    // tests the specialised frame came before the preview's turn.
     if renderer().is_none() {
         return;
     }
     let r = Renderer::new().unwrap();
     r.warm_interpreter().unwrap();
-    let c = compile("grid", &sdfc_tests::grid_scene(300));
+    let nudge = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos() % 1000);
+    let scene = sdfc_tests::grid_scene(300).replace(
+        "position: [0, 20, 60]",
+        &format!("position: [0, {}, 60]", 20.0 + nudge as f64 * 1e-4),
+    );
+    assert!(
+        scene.contains("position: [0, 20"),
+        "the grid's camera has changed"
+    );
+    let c = compile("grid", &scene);
     let opts = RenderOptions::sized(16, 12);
     let (frames, report) =
         render_live(&r, c.program(), &opts, &live(Duration::from_millis(30), 4)).unwrap();

@@ -1,27 +1,28 @@
 //! Dispatching only the tiles whose rays can meet the scene's bounds (`sdfc_wgsl::screen`,
 //! the render crate's `tiles`): the frame must be the whole dispatch's to the bit (colour,
 //! depth, normal, steps), wherever the scene sits on the image, with antialiasing,
-//! reflections, shadows and ambient occlusion, for a union read as data, and from the
-//! interpreter, which dispatches the same way.
+//! reflections, shadows and ambient occlusion, relaxation, far from the origin, for an image
+//! of no whole tiles, for a union read as data, and from the interpreter, which dispatches
+//! the same way.
 
 mod common;
 
 use common::{compile, renderer};
 use sdfc_render::{Frame, RenderOptions};
 
-const W: u32 = 64;
-const H: u32 = 48;
+const SIZE: (u32, u32) = (64, 48);
 
 fn frame(
     r: &sdfc_render::Renderer,
     c: &sdfc_wgsl::Compiled,
+    (w, h): (u32, u32),
     all_pixels: bool,
     interpreted: bool,
 ) -> Frame {
     let opts = RenderOptions {
         aovs: true,
         all_pixels,
-        ..RenderOptions::sized(W, H)
+        ..RenderOptions::sized(w, h)
     };
     if interpreted {
         r.render_interpreted(c.program(), &opts).expect("render")
@@ -33,23 +34,24 @@ fn frame(
 /// Renders `source` both ways and checks the frames are the same, and that the scene's
 /// rectangle on the image leaves tiles out (so the test draws what it means to).
 fn same_as_the_whole_dispatch(name: &str, source: &str) {
-    same_both_ways(name, source, false);
+    same_both_ways(name, source, SIZE, false);
 }
 
-fn same_both_ways(name: &str, source: &str, interpreted: bool) {
+fn same_both_ways(name: &str, source: &str, (w, h): (u32, u32), interpreted: bool) {
     let Some(r) = renderer() else {
         return;
     };
     let c = compile(name, source);
-    let rect = sdfc_wgsl::screen::screen_rect(c.program(), W, H).expect("a rectangle");
+    let rect = sdfc_wgsl::screen::screen_rect(c.program(), w, h).expect("a rectangle");
     let tiles_in = |a: u32, b: u32| b.div_ceil(8).saturating_sub(a / 8);
     let covered = tiles_in(rect[0], rect[2]) * tiles_in(rect[1], rect[3]);
+    let all_tiles = w.div_ceil(8) * h.div_ceil(8);
     assert!(
-        covered < 8 * 6 - 1,
+        covered < all_tiles - 1,
         "{name}: the rectangle {rect:?} covers the image"
     );
-    let some = frame(r, &c, false, interpreted);
-    let all = frame(r, &c, true, interpreted);
+    let some = frame(r, &c, (w, h), false, interpreted);
+    let all = frame(r, &c, (w, h), true, interpreted);
     assert_eq!(some.rgba, all.rgba, "{name}: colours differ");
     let (a, b) = (some.aovs.expect("AOVs"), all.aovs.expect("AOVs"));
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -75,18 +77,32 @@ fn a_shape_in_the_middle() {
 
 #[test]
 fn a_shape_at_each_edge() {
-    // Touching the left edge, the background's tile is on the right, and so on.
-    for (name, at) in [
-        ("left", "[-5.2, 0, 0]"),
-        ("right", "[5.2, 0, 0]"),
-        ("top", "[0, 3.9, 0]"),
-        ("bottom", "[0, -4.4, 0]"),
+    // The background's tiles are taken from the left of the rectangle where there is room,
+    // else from its right, else above, else below: a sphere touching the left edge, then
+    // one touching the right, then bars across the whole width (at the top, so the tiles
+    // come from below; lower down, from above).
+    for (name, scene) in [
+        ("left", "sphere(1.2).translate([-5.2, 0, 0])"),
+        ("right", "sphere(1.2).translate([5.2, 0, 0])"),
+        ("top", "box([9, 0.4, 0.5]).translate([0, 3.9, 0])"),
+        ("bottom", "box([9, 0.4, 0.5]).translate([0, -3.2, 0])"),
     ] {
-        same_as_the_whole_dispatch(
-            name,
-            &format!("{CAMERA}scene = sphere(1.2).translate({at});\n"),
-        );
+        same_as_the_whole_dispatch(name, &format!("{CAMERA}scene = {scene};\n"));
     }
+}
+
+#[test]
+fn an_image_of_no_whole_tiles_far_from_the_origin_with_relaxation() {
+    // 61x45 (the last column and row of tiles lie partly outside the image), the scene 1e5
+    // from the origin (camera-relative coordinates in the shader), relaxed steps.
+    same_both_ways(
+        "far",
+        "camera { position: [100000, 1, 10], target: [100000, 0, 0], fov: 50deg }\n\
+         render { relaxation: 1.6 }\n\
+         scene = sphere(1).translate([100000, 0, 0]) | torus(1, 0.2).translate([100003, 0, 0]);\n",
+        (61, 45),
+        false,
+    );
 }
 
 #[test]
@@ -116,6 +132,7 @@ fn the_interpreter_too() {
             "{CAMERA}render {{ shadows: soft(8) }}\n\
              scene = sphere(1).translate([-3, 0, 0]) | torus(0.8, 0.2).translate([2, 1, 0]);\n"
         ),
+        SIZE,
         true,
     );
 }

@@ -11,13 +11,24 @@
 use crate::marcher::{camera_basis, root_bounds, span_slabs};
 use sdfc_ir::Program;
 
+/// The entry point's line that reads the dispatch's first tile (`shaders/main.wgsl`).
+const FIRST_TILE: &str =
+    "let first = vec2<u32>((frame.flags >> 8u) & 0xfffu, frame.flags >> 20u) * 8u;";
+
+/// Whether a full shader's entry point reads the dispatch's first tile from `frame.flags`, so
+/// that part of the image may be dispatched: every shader sdfc emits does, one emitted before
+/// it did or written by hand may not, and is then dispatched whole.
+pub fn reads_first_tile(wgsl: &str) -> bool {
+    wgsl.contains(FIRST_TILE)
+}
+
 /// Pixels `[x0, x1) x [y0, y1)` outside of which no primary ray of the entry point meets the
 /// scene's padded bounds (the box of `ray_span`); an empty rectangle where none does. The box's
 /// corners projected as the entry point's rays are cast (`camera_ray`, any sample offset in
-/// the pixel), widened by two pixels for the shader's f32 arithmetic. `None` where that cannot
-/// be said: bounds infinite on an axis (a plane, a repetition, a param in the bounds), a
-/// corner of the box beside or behind the camera (so the camera may see it all round), or
-/// values that are not finite.
+/// the pixel), widened for the shader's f32 arithmetic (two pixels, more at a very narrow
+/// field of view). `None` where that cannot be said: bounds infinite on an axis (a plane, a
+/// repetition, a param in the bounds), a corner of the box beside or behind the camera (so
+/// the camera may see it all round), or values that are not finite.
 pub fn screen_rect(p: &Program, width: u32, height: u32) -> Option<[u32; 4]> {
     let slabs = span_slabs(root_bounds(p), [0.0; 3]);
     let mut lo = [0.0f64; 3];
@@ -60,16 +71,27 @@ pub fn screen_rect(p: &Program, width: u32, height: u32) -> Option<[u32; 4]> {
         return None;
     }
     // A pixel's samples lie in [column, column + 1): the columns from floor(x_min) to
-    // floor(x_max), two more each side.
+    // floor(x_max), and a margin each side for the shader's f32 arithmetic. Its ray's
+    // direction (`camera_ray`: a sum of f32 vectors, normalised) is off by a few units in the
+    // last place, an angle of about 2^-24 each; a pixel subtends 2 tan(fov / 2) / height. So
+    // two pixels and the pixels 16 such units span, rounded up (one at an ordinary field of
+    // view; at 1e-5 degrees and 48 pixels high, 262).
+    let margin = margin(h, tan);
     let clamp = |v: f64, n: u32| v.clamp(0.0, n as f64) as u32;
-    let x0 = clamp(x_min.floor() - 2.0, width);
-    let x1 = clamp(x_max.floor() + 3.0, width);
-    let y0 = clamp(y_min.floor() - 2.0, height);
-    let y1 = clamp(y_max.floor() + 3.0, height);
+    let x0 = clamp(x_min.floor() - margin, width);
+    let x1 = clamp(x_max.floor() + 1.0 + margin, width);
+    let y0 = clamp(y_min.floor() - margin, height);
+    let y1 = clamp(y_max.floor() + 1.0 + margin, height);
     if x0 >= x1 || y0 >= y1 {
         return Some([0; 4]);
     }
     Some([x0, y0, x1, y1])
+}
+
+/// The pixels added on each side of the projected box for an image `height` pixels high
+/// under a field of view of `2 atan(tan_half)` (see `screen_rect`).
+fn margin(height: f64, tan_half: f64) -> f64 {
+    2.0 + (16.0 * f64::from(f32::EPSILON) * 0.5 * height / (2.0 * tan_half)).ceil()
 }
 
 #[cfg(test)]
@@ -84,6 +106,29 @@ mod tests {
     }
 
     const CAMERA: &str = "camera { position: [0, 0, 10], target: [0, 0, 0], fov: 50deg }\n";
+
+    #[test]
+    fn the_entry_point_reads_the_first_tile() {
+        assert!(reads_first_tile(crate::parts::MAIN));
+        let wgsl = crate::compile("scene = sphere(1);", &crate::Options::default())
+            .unwrap()
+            .wgsl;
+        assert!(reads_first_tile(&wgsl));
+        assert!(reads_first_tile(&crate::interp::emit()));
+        assert!(!reads_first_tile(
+            &wgsl.replace(FIRST_TILE, "let first = vec2<u32>(0u);")
+        ));
+    }
+
+    #[test]
+    fn the_margin_grows_where_a_pixel_is_finer_than_f32_directions() {
+        let tan = |degrees: f64| (0.5 * degrees.to_radians()).tan();
+        assert_eq!(margin(48.0, tan(50.0)), 3.0);
+        assert_eq!(margin(1080.0, tan(50.0)), 3.0);
+        // 1e-5 degrees (tests/stress/narrow_fov.sdf): a pixel is 4e-9 radians, f32's
+        // directions are good to about 6e-8.
+        assert!(margin(48.0, tan(1e-5)) > 200.0);
+    }
 
     #[test]
     fn a_sphere_ahead_covers_the_middle_and_not_the_corners() {

@@ -5,7 +5,8 @@
 //! # Shader interface
 //!
 //! As the render shader's (see the crate documentation: entry point `main`, 8x8 workgroups,
-//! `color_out` at binding 1, `aov_out` at binding 2, `frame.flags` bit 0 for AOVs), except:
+//! `color_out` at binding 1, `aov_out` at binding 2, `frame.flags` bit 0 for AOVs and bits 8
+//! to 31 for the first tile of a dispatch of part of the image), except:
 //!
 //! - `@group(0) @binding(0) var<storage, read> frame: Frame` is the [`frame::FRAME_BYTES`]-byte
 //!   struct of `shaders/interpreter/interface.wgsl` (image, time, flags, camera, render
@@ -20,10 +21,11 @@
 //! so that the interpreter is inlined at as few calls as possible):
 //! each compile-time constant they name (`MAX_STEPS`, `CAMERA_POSITION`, ...) is rewritten
 //! to the frame's field ([`RUNTIME_SETTINGS`]). The relaxed step with `RELAXATION = 1` takes
-//! the plain step's samples, but for the sample after a leap while receding from a pass
-//! (the relaxed step tests the spheres' overlap with |d| and then remembers the sample it
-//! took back, the plain one the last good one), and the reflection loop with `REFLECTIONS = 0`
-//! returns exactly the plain radiance, so one shader covers every setting.
+//! the plain step's samples up to a leap while receding from a surface passed by (there the
+//! relaxed step tests the spheres' overlap with |d| and then remembers the sample it took
+//! back, the plain one the last good one, so the paths may part from that sample on), and the
+//! reflection loop with `REFLECTIONS = 0` returns exactly the plain radiance, so one shader
+//! covers every setting.
 //!
 //! The interpreter's distance is the dearest there is (the whole bytecode loop), so its march
 //! refines in the stepping loop (`shaders/march_merged.wgsl`): one inlined copy of the

@@ -25,7 +25,7 @@ pub fn reads_first_tile(wgsl: &str) -> bool {
 /// Pixels `[x0, x1) x [y0, y1)` outside of which no primary ray of the entry point meets the
 /// scene's padded bounds (the box of `ray_span`); an empty rectangle where none does. The box's
 /// corners projected as the entry point's rays are cast (`camera_ray`, any sample offset in
-/// the pixel), widened for the shader's f32 arithmetic (two pixels, more at a very narrow
+/// the pixel), widened for the shader's f32 arithmetic (three pixels, more at a very narrow
 /// field of view). `None` where that cannot be said: bounds infinite on an axis (a plane, a
 /// repetition, a param in the bounds), a corner of the box beside or behind the camera (so
 /// the camera may see it all round), or values that are not finite.

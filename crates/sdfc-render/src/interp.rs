@@ -211,10 +211,10 @@ impl Renderer {
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;
-        let variant = Variant::of(code);
-        let wgsl = interpreter_wgsl(unroll, variant)?;
-        // Only the tiles whose rays can meet the scene's bounds, as the specialised shader.
-        let plan = tiles::Dispatch::plan(program, wgsl, opts, (gx, gy));
+        // Only the tiles whose rays can meet the scene's bounds, as the specialised shader
+        // (the interpreter's entry point is the render shader's, which reads its first tile:
+        // `sdfc_wgsl::screen`'s tests check both).
+        let plan = tiles::Dispatch::plan(program, true, opts, (gx, gy));
         let data = frame_data_with(program, settings, code, plan.header, &params);
         let max = self.max_buffer_bytes();
         if data.code.len() as u64 > max || data.data.len() as u64 > max {
@@ -226,7 +226,8 @@ impl Renderer {
                 )),
             ));
         }
-        let pipeline = self.pipeline(Kind::Interpreted, wgsl)?;
+        let variant = Variant::of(code);
+        let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll, variant)?)?;
         let mut frame = self.dispatch(
             &pipeline.pipeline,
             &self.interp_bind_layout,

@@ -26,6 +26,10 @@ pub(crate) enum Kind {
 
 pub(crate) struct CachedPipeline {
     pub(crate) pipeline: wgpu::ComputePipeline,
+    /// Whether the shader's entry point reads its dispatch's first tile from `frame.flags`
+    /// (`sdfc_wgsl::screen::reads_first_tile`), so that part of the image may be dispatched:
+    /// looked up once per text, not at every frame.
+    pub(crate) tiled: bool,
 }
 
 /// One shader text's place in the pipeline cache. Its lock is held while the pipeline is
@@ -115,6 +119,7 @@ impl Pipelines {
         // Nothing built yet, or an earlier build failed: build it (again) here.
         let p = Arc::new(CachedPipeline {
             pipeline: self.build(kind, wgsl)?,
+            tiled: sdfc_wgsl::screen::reads_first_tile(wgsl),
         });
         *built = Some(p.clone());
         Ok(p)

@@ -184,7 +184,7 @@ impl Renderer {
         };
         let pipeline = self.pipeline(kind, wgsl)?;
         // Only the tiles whose rays can meet the scene's bounds, where that is known.
-        let plan = tiles::Dispatch::plan(program, wgsl, opts, (gx, gy));
+        let plan = tiles::Dispatch::plan(program, pipeline.tiled, opts, (gx, gy));
         let frame = params::frame_bytes(plan.header, &params);
         let mut out = self.dispatch(
             &pipeline.pipeline,

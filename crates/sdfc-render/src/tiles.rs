@@ -53,33 +53,25 @@ pub(crate) fn region(program: &Program, opts: &RenderOptions) -> Option<Region> 
     if tiles.0 > MAX_TILE || tiles.1 > MAX_TILE {
         return None;
     }
-    // The rectangle's tiles; an empty rectangle (nothing on the image) keeps one tile, the
-    // background pixel's.
-    let empty = x0 >= x1 || y0 >= y1;
-    let (mut first, mut last) = if empty {
-        ((0, 0), (0, 0))
+    // The rectangle's tiles, and one more tile holding a pixel off the rectangle, the
+    // background: the first beside it with room, left, right, above or below (so a column
+    // or row is added). An empty rectangle (nothing on the image) keeps that tile alone.
+    let (first, last, beside) = if x0 >= x1 || y0 >= y1 {
+        ((0, 0), (0, 0), (0, 0))
     } else {
-        ((x0 / TILE, y0 / TILE), ((x1 - 1) / TILE, (y1 - 1) / TILE))
+        let (first, last) = ((x0 / TILE, y0 / TILE), ((x1 - 1) / TILE, (y1 - 1) / TILE));
+        let candidates = [
+            (first.0 > 0).then(|| (first.0 - 1, first.1)),
+            (last.0 + 1 < tiles.0).then(|| (last.0 + 1, first.1)),
+            (first.1 > 0).then(|| (first.0, first.1 - 1)),
+            (last.1 + 1 < tiles.1).then(|| (first.0, last.1 + 1)),
+        ];
+        let beside = candidates.into_iter().flatten().next()?;
+        (first, last, beside)
     };
-    // One more column (or row) of tiles on a side with room holds a pixel off the rectangle:
-    // the background.
-    let background = if empty {
-        (0, 0)
-    } else if first.0 > 0 {
-        first.0 -= 1;
-        (first.0 * TILE, first.1 * TILE)
-    } else if last.0 + 1 < tiles.0 {
-        last.0 += 1;
-        (last.0 * TILE, first.1 * TILE)
-    } else if first.1 > 0 {
-        first.1 -= 1;
-        (first.0 * TILE, first.1 * TILE)
-    } else if last.1 + 1 < tiles.1 {
-        last.1 += 1;
-        (first.0 * TILE, last.1 * TILE)
-    } else {
-        return None;
-    };
+    let first = (first.0.min(beside.0), first.1.min(beside.1));
+    let last = (last.0.max(beside.0), last.1.max(beside.1));
+    let background = (beside.0 * TILE, beside.1 * TILE);
     let count = (last.0 - first.0 + 1, last.1 - first.1 + 1);
     if count.0 * count.1 >= tiles.0 * tiles.1 {
         return None;
@@ -100,16 +92,17 @@ pub(crate) struct Dispatch {
 }
 
 impl Dispatch {
-    /// The dispatch of a frame of `program` by `wgsl` (`groups`: the whole image's size in
-    /// tiles); the whole image where the shader does not read its first tile.
+    /// The dispatch of a frame of `program` (`groups`: the whole image's size in tiles); the
+    /// whole image where the shader does not read its first tile (`tiled` false: a text
+    /// emitted before it did, or written by hand).
     pub(crate) fn plan(
         program: &Program,
-        wgsl: &str,
+        tiled: bool,
         opts: &RenderOptions,
         groups: (u32, u32),
     ) -> Dispatch {
         let mut header = header(opts);
-        let region = region(program, opts).filter(|_| sdfc_wgsl::screen::reads_first_tile(wgsl));
+        let region = region(program, opts).filter(|_| tiled);
         if let Some(r) = &region {
             header[3] = r.flags(header[3]);
         }

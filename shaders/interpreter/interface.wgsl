@@ -42,7 +42,7 @@ struct Frame {
     lights_at: u32,
     params_at: u32,
     consts_at: u32,
-    // Where the scene's bounds are in `data`: (low corner, mask of the finite axes), then
+    // Where the scene's bounds are in `data`: (low corner, mask of the finite ends), then
     // (high corner, 0); see `ray_span`.
     bounds_at: u32,
     // Where a union read as data starts in `data` (shaders/interpreter/instances.wgsl).

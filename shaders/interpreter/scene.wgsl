@@ -139,24 +139,41 @@ fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {
 
 // The stretch of the ray inside the scene's bounds (padded), as the specialised shader's
 // `ray_span` computes it from its constants: marching starts and ends there, and a ray that
-// misses them takes no step. Only the axes whose bit is set in the mask are bounded.
+// misses them takes no step. Only the ends whose bit is set in the mask bound the box (bit k:
+// axis k's low end; bit k + 3: its high end); the arithmetic is the specialised shader's, so
+// both give the same stretch bit for bit.
 fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
     let lo = data[frame.bounds_at];
     let hi = data[frame.bounds_at + 1u];
-    let finite = u32(lo.w);
+    let ends = u32(lo.w);
     var t0 = 0.0;
     var t1 = MAX_DISTANCE;
     for (var k = 0u; k < 3u; k = k + 1u) {
-        if (finite & (1u << k)) == 0u {
-            continue;
-        }
-        if abs(rd[k]) > 1e-30 {
-            let a = (lo[k] - ro[k]) / rd[k];
-            let b = (hi[k] - ro[k]) / rd[k];
-            t0 = max(t0, min(a, b));
-            t1 = min(t1, max(a, b));
-        } else if ro[k] < lo[k] || ro[k] > hi[k] {
-            t1 = -1.0;
+        let has_lo = (ends & (1u << k)) != 0u;
+        let has_hi = (ends & (8u << k)) != 0u;
+        if has_lo && has_hi {
+            if abs(rd[k]) > 1e-30 {
+                let a = (lo[k] - ro[k]) / rd[k];
+                let b = (hi[k] - ro[k]) / rd[k];
+                t0 = max(t0, min(a, b));
+                t1 = min(t1, max(a, b));
+            } else if ro[k] < lo[k] || ro[k] > hi[k] {
+                t1 = -1.0;
+            }
+        } else if has_lo || has_hi {
+            // One end: a ray heading for the open side leaves there.
+            let v = select(hi[k], lo[k], has_lo);
+            let rising = rd[k] > 1e-30;
+            if rising || rd[k] < -1e-30 {
+                let t = (v - ro[k]) / rd[k];
+                if rising == has_lo {
+                    t0 = max(t0, t);
+                } else {
+                    t1 = min(t1, t);
+                }
+            } else if select(ro[k] > v, ro[k] < v, has_lo) {
+                t1 = -1.0;
+            }
         }
     }
     return vec2<f32>(t0, t1);

@@ -1,6 +1,7 @@
 //! `ray_span` in the emitted marcher: a slab test against the scene's bounds (the analysis's
-//! box of the root, padded) on the axes where they are finite, and the whole ray otherwise;
-//! bounds that depend on time or a param are not taken as finite.
+//! box of the root, padded) on the axes where they are finite, a one-sided test on an axis
+//! bounded at one end (a floor's half-space), and the whole ray otherwise; bounds that
+//! depend on time or a param are not taken as finite.
 
 use sdfc_wgsl::{compile, Options};
 
@@ -41,11 +42,53 @@ fn an_unbounded_axis_has_no_slab() {
 #[test]
 fn unbounded_and_moving_scenes_search_the_whole_ray() {
     for src in [
-        "scene = sphere(1) | plane([0, 1, 0], 1);\n",
+        "scene = sphere(1) | plane([0, 1, 1], 1);\n",
+        "scene = sphere(1) | plane([0, 1, 0], 1).rotate([0, 0, 1], 30deg);\n",
         "param r = 1;\nscene = sphere(r);\n",
         "scene = sphere(1).translate([sin(time) * 3, 0, 0]);\n",
     ] {
         let f = ray_span_of(src);
         assert!(f.contains(WHOLE_RAY), "{src}: {f}");
     }
+}
+
+#[test]
+fn a_floor_bounds_the_scene_above_and_a_ceiling_below() {
+    // Under the floor y <= 1 (padded by 1e-3): a rising ray leaves at the floor, a falling
+    // one enters there, a level one above it misses; no other axis is tested.
+    let f = ray_span_of("scene = sphere(0.5) | plane([0, 1, 0], 1);\n");
+    assert!(
+        f.contains("if rd.y > 1e-30 {\n        t1 = min(t1, (1.001 - ro.y) / rd.y);"),
+        "{f}"
+    );
+    assert!(
+        f.contains("} else if rd.y < -1e-30 {\n        t0 = max(t0, (1.001 - ro.y) / rd.y);"),
+        "{f}"
+    );
+    assert!(
+        f.contains("} else if ro.y > 1.001 {\n        t1 = -1.0;"),
+        "{f}"
+    );
+    assert!(!f.contains("rd.x") && !f.contains("rd.z"), "{f}");
+    // Above the ceiling y >= 2 (a normal pointing down): the other way round.
+    let f = ray_span_of("scene = plane([0, -2, 0], -2);\n");
+    assert!(
+        f.contains("if rd.y > 1e-30 {\n        t0 = max(t0, (1.999 - ro.y) / rd.y);"),
+        "{f}"
+    );
+    assert!(f.contains("} else if ro.y < 1.999 {"), "{f}");
+    // Moved, scaled, intersected with a wall: x >= -3 from the wall, y <= 2 (0.5 - (-0.5)
+    // times 2) from the floor.
+    let f = ray_span_of(
+        "scene = plane([0, 1, 0], 0.5).translate([0, 0.5, 0]).scale(2) & plane([-1, 0, 0], 3);\n",
+    );
+    assert!(
+        f.contains("t1 = min(t1, (2.0010002 - ro.y) / rd.y);"),
+        "{f}"
+    );
+    assert!(
+        f.contains("t0 = max(t0, (-3.0010002 - ro.x) / rd.x);"),
+        "{f}"
+    );
+    assert!(!f.contains("rd.z"), "{f}");
 }

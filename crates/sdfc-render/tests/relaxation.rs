@@ -5,16 +5,22 @@
 //!
 //! Measured on lavapipe, 128x96, mean steps plain -> 1.6 (`docs/performance.md`): sphere
 //! 9.7 -> 8.3, spec section 10 27.1 -> 21.0, terrain 35.8 -> 29.5, fractals 24.7 -> 19.9,
-//! ribbed sphere 21.1 -> 16.4, 300-shape grid 4.2 -> 3.9.
+//! ribbed sphere 21.1 -> 16.4, 300-shape grid 4.2 -> 3.9; since rays above a floor's
+//! half-space take no step (2026-12-06), terrain 26.9 -> 23.6, fractals 20.1 -> 16.8.
 
 mod common;
 
 use common::against_reference::render_against_reference;
 use common::{compile, renderer, root};
 
-/// At least this fraction of the plain marcher's steps is saved on each scene below (the
-/// measured savings at 64x48 are 15% to 23%).
+/// At least this fraction of the plain marcher's steps is saved on each scene below but the
+/// terrain (the measured savings at 64x48 were 15% to 23%).
 const LEAST_SAVING: f64 = 0.1;
+
+/// The terrain's floor: 9.1% measured at 64x48 since its rays into the sky, where relaxation
+/// saved most (their long grazing marches), take no step at all (`ray_span` ends them at
+/// the heightfield's top, 2026-12-06); it saved 15.5% when they marched.
+const LEAST_SAVING_TERRAIN: f64 = 0.05;
 
 /// The scene's source with `relaxation: k` in its render block.
 fn with_relaxation(source: &str, k: f32) -> String {
@@ -26,6 +32,10 @@ fn with_relaxation(source: &str, k: f32) -> String {
 }
 
 fn check(rel: &str) {
+    check_saving(rel, LEAST_SAVING);
+}
+
+fn check_saving(rel: &str, least: f64) {
     let Some(r) = renderer() else {
         return;
     };
@@ -61,7 +71,7 @@ fn check(rel: &str) {
     );
     assert_eq!(m.nonfinite, 0, "{rel}: NaN/Inf with relaxation");
     assert!(
-        m.mean_steps_gpu <= (1.0 - LEAST_SAVING) * p.mean_steps_gpu,
+        m.mean_steps_gpu <= (1.0 - least) * p.mean_steps_gpu,
         "{rel}: {:.2} steps relaxed against {:.2} plain",
         m.mean_steps_gpu,
         p.mean_steps_gpu
@@ -81,7 +91,7 @@ fn spec_section_10() {
 
 #[test]
 fn terrain() {
-    check("examples/terrain.sdf");
+    check_saving("examples/terrain.sdf", LEAST_SAVING_TERRAIN);
 }
 
 #[test]

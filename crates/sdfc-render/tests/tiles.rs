@@ -2,8 +2,8 @@
 //! the render crate's `tiles`): the frame must be the whole dispatch's to the bit (colour,
 //! depth, normal, steps), wherever the scene sits on the image, with antialiasing,
 //! reflections, shadows and ambient occlusion, relaxation, far from the origin, for an image
-//! of no whole tiles, for a union read as data, and from the interpreter, which dispatches
-//! the same way.
+//! of no whole tiles, for a union read as data, under the horizon of a floor's half-space,
+//! and from the interpreter, which dispatches the same way.
 
 mod common;
 
@@ -135,4 +135,17 @@ fn the_interpreter_too() {
         SIZE,
         true,
     );
+}
+
+#[test]
+fn below_a_floors_horizon_both_ways() {
+    // A floor's half-space bounds the scene above (y <= 1.2): looking level from above it,
+    // the sky's tiles are left out, with fog (a miss is the background however far the ray
+    // went), shadows and a reflective floor.
+    let source = "camera { position: [0, 2, 8], target: [0, 1.6, 0], fov: 50deg }\n\
+                  material mirror { color: [0.6, 0.6, 0.6], reflectivity: 0.4 }\n\
+                  render { shadows: soft(8), reflections: 1, fog: fog(0.05, [0.7, 0.78, 0.88]) }\n\
+                  scene = plane([0, 1, 0], 0).material(mirror) | sphere(1).translate([0, 0.2, 0]);\n";
+    same_both_ways("floor", source, SIZE, false);
+    same_both_ways("floor interpreted", source, SIZE, true);
 }

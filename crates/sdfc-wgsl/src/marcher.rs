@@ -338,34 +338,50 @@ pub fn root_bounds(p: &sdfc_ir::Program) -> ([f64; 3], [f64; 3]) {
         })
 }
 
-/// The slabs `ray_span` clips rays to: per axis, `Some((lo, hi))` in shader coordinates
-/// (`origin` subtracted) where the scene's bounds are finite, each padded by a thousandth of
-/// the box's size (and at least 1e-3) so that f32 rounding of the slab test never cuts a
-/// surface off, computed in f64 and rounded outwards. Shared by the specialised shader (as
-/// constants) and the interpreter (in its data buffer), so both clip alike.
-pub fn span_slabs(bounds: ([f64; 3], [f64; 3]), origin: [f32; 3]) -> [Option<(f32, f32)>; 3] {
+/// One axis of the box `ray_span` clips rays to: its low and high ends where they are finite
+/// (a floor's half-space has only a high end on y).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slab {
+    pub lo: Option<f32>,
+    pub hi: Option<f32>,
+}
+
+impl Slab {
+    /// Both ends, where both are finite.
+    pub fn both(&self) -> Option<(f32, f32)> {
+        self.lo.zip(self.hi)
+    }
+}
+
+/// The slabs `ray_span` clips rays to: per axis, the ends of the scene's bounds that are
+/// finite, in shader coordinates (`origin` subtracted), each padded by a thousandth of the
+/// box's size over its axes bounded on both sides (and at least 1e-3) so that f32 rounding of
+/// the slab test never cuts a surface off, computed in f64 and rounded outwards. Shared by the
+/// specialised shader (as constants), the interpreter (in its data buffer) and the tiles
+/// ([`crate::screen`]), so all clip alike.
+pub fn span_slabs(bounds: ([f64; 3], [f64; 3]), origin: [f32; 3]) -> [Slab; 3] {
     let (lo, hi) = bounds;
-    let finite = |k: usize| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k];
+    let both = |k: usize| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k];
     let size = (0..3)
-        .filter(|&k| finite(k))
+        .filter(|&k| both(k))
         .map(|k| hi[k] - lo[k])
         .fold(0.0f64, f64::max);
     let pad = (1e-3 * size).max(1e-3);
-    std::array::from_fn(|k| {
-        // A slab past f32's range (bounds grown by nested scales) clips nothing: unbounded.
-        finite(k)
-            .then(|| {
-                (
-                    f32_down(lo[k] - origin[k] as f64 - pad),
-                    f32_up(hi[k] - origin[k] as f64 + pad),
-                )
-            })
-            .filter(|(a, b)| a.is_finite() && b.is_finite())
+    // An empty box (lo above hi) clips nothing, like an unbounded one; an end past f32's
+    // range (bounds grown by nested scales) clips nothing either.
+    let end = |v: f64, k: usize| (v.is_finite() && lo[k] <= hi[k]).then(|| v - origin[k] as f64);
+    std::array::from_fn(|k| Slab {
+        lo: end(lo[k], k)
+            .map(|v| f32_down(v - pad))
+            .filter(|x| x.is_finite()),
+        hi: end(hi[k], k)
+            .map(|v| f32_up(v + pad))
+            .filter(|x| x.is_finite()),
     })
 }
 
 /// `ray_span(ro, rd)`: the stretch of the ray, from 0 to MAX_DISTANCE, inside the scene's
-/// bounds on the axes where they are finite ([`span_slabs`]). No surface lies before or after
+/// bounds on the ends where they are finite ([`span_slabs`]). No surface lies before or after
 /// it, so the marchers start and end there, and a ray that misses the box takes no step.
 fn ray_span(view: &View) -> String {
     let slabs = span_slabs(view.bounds, view.origin);
@@ -374,32 +390,60 @@ fn ray_span(view: &View) -> String {
          // there, and a ray that misses them takes no step.\n\
          fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {\n",
     );
-    if slabs.iter().all(Option::is_none) {
+    if slabs.iter().all(|s| s.lo.is_none() && s.hi.is_none()) {
         s += "    return vec2<f32>(0.0, MAX_DISTANCE);\n}\n";
         return s;
     }
     s += "    var t0 = 0.0;\n    var t1 = MAX_DISTANCE;\n";
     for (k, slab) in slabs.iter().enumerate() {
-        let Some((a, b)) = *slab else { continue };
         let c = ["x", "y", "z"][k];
-        let _ = write!(
-            s,
-            "    if abs(rd.{c}) > 1e-30 {{\n\
-             \x20       let a = ({} - ro.{c}) / rd.{c};\n\
-             \x20       let b = ({} - ro.{c}) / rd.{c};\n\
-             \x20       t0 = max(t0, min(a, b));\n\
-             \x20       t1 = min(t1, max(a, b));\n\
-             \x20   }} else if ro.{c} < {} || ro.{c} > {} {{\n\
-             \x20       t1 = -1.0;\n\
-             \x20   }}\n",
-            float(a),
-            float(b),
-            float(a),
-            float(b),
-        );
+        let _ = match (slab.lo, slab.hi) {
+            (Some(a), Some(b)) => write!(
+                s,
+                "    if abs(rd.{c}) > 1e-30 {{\n\
+                 \x20       let a = ({} - ro.{c}) / rd.{c};\n\
+                 \x20       let b = ({} - ro.{c}) / rd.{c};\n\
+                 \x20       t0 = max(t0, min(a, b));\n\
+                 \x20       t1 = min(t1, max(a, b));\n\
+                 \x20   }} else if ro.{c} < {} || ro.{c} > {} {{\n\
+                 \x20       t1 = -1.0;\n\
+                 \x20   }}\n",
+                float(a),
+                float(b),
+                float(a),
+                float(b),
+            ),
+            // One end: a ray going towards the open side leaves through it, one coming from
+            // the open side enters through it.
+            (Some(a), None) => half_slab(&mut s, c, a, true),
+            (None, Some(b)) => half_slab(&mut s, c, b, false),
+            (None, None) => Ok(()),
+        };
     }
     s += "    return vec2<f32>(t0, t1);\n}\n";
     s
+}
+
+/// `ray_span`'s test for an axis bounded at one end `v` only, its low end if `low`: a ray
+/// heading for the open side leaves the box there (a low end is where a rising ray enters),
+/// and one parallel to the end misses where it is outside of it.
+fn half_slab(s: &mut String, c: &str, v: f32, low: bool) -> std::fmt::Result {
+    let (rising, falling, outside) = if low {
+        ("t0 = max(t0", "t1 = min(t1", "<")
+    } else {
+        ("t1 = min(t1", "t0 = max(t0", ">")
+    };
+    let v = float(v);
+    write!(
+        s,
+        "    if rd.{c} > 1e-30 {{\n\
+         \x20       {rising}, ({v} - ro.{c}) / rd.{c});\n\
+         \x20   }} else if rd.{c} < -1e-30 {{\n\
+         \x20       {falling}, ({v} - ro.{c}) / rd.{c});\n\
+         \x20   }} else if ro.{c} {outside} {v} {{\n\
+         \x20       t1 = -1.0;\n\
+         \x20   }}\n",
+    )
 }
 
 fn surface_epsilon(scene: &Scene) -> String {

@@ -23,39 +23,76 @@ pub fn reads_first_tile(wgsl: &str) -> bool {
 }
 
 /// Pixels `[x0, x1) x [y0, y1)` outside of which no primary ray of the entry point meets the
-/// scene's padded bounds (the box of `ray_span`); an empty rectangle where none does. The box's
-/// corners projected as the entry point's rays are cast (`camera_ray`, any sample offset in
-/// the pixel), widened for the shader's f32 arithmetic (three pixels, more at a very narrow
-/// field of view). `None` where that cannot be said: bounds infinite on an axis (a plane, a
-/// repetition, a param in the bounds), a corner of the box beside or behind the camera (so
-/// the camera may see it all round), or values that are not finite.
+/// scene's padded bounds (the box of `ray_span`) within MAX_DISTANCE; an empty rectangle where
+/// none does. The box, closed on its open sides by the cube of MAX_DISTANCE about the camera
+/// and cut by a plane just ahead of the camera, is projected as the entry point's rays are
+/// cast (`camera_ray`, any sample offset in the pixel), widened for the shader's f32
+/// arithmetic (three pixels, more at a very narrow field of view). `None` where that cannot
+/// be said: the camera inside the box (it may see it all round), or values that are not
+/// finite.
 pub fn screen_rect(p: &Program, width: u32, height: u32) -> Option<[u32; 4]> {
     let slabs = span_slabs(root_bounds(p), [0.0; 3]);
+    let c = p.scene.camera.position.map(|x| x as f64);
+    // Every point a primary ray reaches lies within MAX_DISTANCE of the camera (its
+    // direction is normalised; a thousandth more for f32's).
+    let reach = 1.001 * p.scene.render.max_distance as f64;
     let mut lo = [0.0f64; 3];
     let mut hi = [0.0f64; 3];
     for (k, slab) in slabs.iter().enumerate() {
-        let (a, b) = (*slab)?;
-        lo[k] = a as f64;
-        hi[k] = b as f64;
+        lo[k] = slab
+            .lo
+            .map_or(f64::NEG_INFINITY, f64::from)
+            .max(c[k] - reach);
+        hi[k] = slab.hi.map_or(f64::INFINITY, f64::from).min(c[k] + reach);
+        if lo[k] > hi[k] {
+            return Some([0; 4]);
+        }
+    }
+    // How far the camera is outside the box (along an axis): every point of the box is at
+    // least that far from it.
+    let outside = (0..3)
+        .map(|k| (lo[k] - c[k]).max(c[k] - hi[k]))
+        .fold(0.0f64, f64::max);
+    if outside.is_nan() || outside <= 0.0 {
+        return None;
     }
     let (forward, right, up, tan_half) = camera_basis(&p.scene);
-    let c = p.scene.camera.position.map(|x| x as f64);
     let dot = |a: [f64; 3], b: [f32; 3]| (0..3).map(|k| a[k] * b[k] as f64).sum::<f64>();
     let (w, h) = (width as f64, height as f64);
     let tan = tan_half as f64;
     let aspect = w / h;
+    // A pixel's ray through a point at depth z passes within z tan(fov / 2) sqrt(aspect^2 + 1)
+    // of the view axis; at depths below `near` that is under half the distance to the box,
+    // so no ray meets the box there, and the box is cut at `near` (a box reaching behind the
+    // camera projects to a finite rectangle, its near side far off the image).
+    let spread = tan * (aspect * aspect + 1.0).sqrt();
+    let near = outside / (2.0 * (1.0 + spread * spread).sqrt());
+    let corner = |i: usize| -> [f64; 3] {
+        std::array::from_fn(|k| if i >> k & 1 == 1 { hi[k] } else { lo[k] })
+    };
+    let depth = |q: [f64; 3]| dot([q[0] - c[0], q[1] - c[1], q[2] - c[2]], forward);
+    let mut points = Vec::with_capacity(20);
+    for i in 0..8 {
+        let a = corner(i);
+        if depth(a) >= near {
+            points.push(a);
+        }
+        // The box's edges from this corner that cross the cut.
+        for k in (0..3).filter(|k| i >> k & 1 == 0) {
+            let b = corner(i | 1 << k);
+            let (za, zb) = (depth(a), depth(b));
+            if (za < near) != (zb < near) {
+                let s = (near - za) / (zb - za);
+                points.push(std::array::from_fn(|j| a[j] + s * (b[j] - a[j])));
+            }
+        }
+    }
     let (mut x_min, mut x_max) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut y_min, mut y_max) = (f64::INFINITY, f64::NEG_INFINITY);
-    for corner in 0..8 {
-        let p: [f64; 3] = std::array::from_fn(|k| if corner >> k & 1 == 1 { hi[k] } else { lo[k] });
-        let v = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
-        let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        let z = dot(v, forward);
-        // A corner nearly beside the camera projects far off the image, or behind it
-        // wraps round: no rectangle then (nor for a NaN).
-        if z.is_nan() || z <= 1e-3 * length {
-            return None;
-        }
+    for q in &points {
+        let v = [q[0] - c[0], q[1] - c[1], q[2] - c[2]];
+        // Never below the cut, however the interpolation rounded.
+        let z = dot(v, forward).max(near);
         // camera_ray: direction forward + sx tan aspect right + sy tan up, with
         // sx = 2 x / width - 1 and sy = 1 - 2 y / height at pixel position (x, y).
         let sx = dot(v, right) / (z * tan * aspect);
@@ -66,6 +103,9 @@ pub fn screen_rect(p: &Program, width: u32, height: u32) -> Option<[u32; 4]> {
         x_max = x_max.max(x);
         y_min = y_min.min(y);
         y_max = y_max.max(y);
+    }
+    if points.is_empty() {
+        return Some([0; 4]);
     }
     if ![x_min, x_max, y_min, y_max].iter().all(|v| v.is_finite()) {
         return None;
@@ -146,18 +186,138 @@ mod tests {
     }
 
     #[test]
-    fn behind_the_camera_no_rectangle_and_off_the_image_an_empty_one() {
+    fn behind_the_camera_aside_or_out_of_reach_an_empty_rectangle() {
         let behind = format!("{CAMERA}scene = sphere(1).translate([0, 0, 20]);");
-        assert_eq!(screen_rect(&program(&behind), 64, 48), None);
+        assert_eq!(screen_rect(&program(&behind), 64, 48), Some([0; 4]));
         let aside = format!("{CAMERA}scene = sphere(1).translate([40, 0, 0]);");
         assert_eq!(screen_rect(&program(&aside), 64, 48), Some([0; 4]));
+        let far = format!(
+            "{CAMERA}render {{ max_distance: 50 }}\nscene = sphere(1).translate([0, 0, -60]);"
+        );
+        assert_eq!(screen_rect(&program(&far), 64, 48), Some([0; 4]));
     }
 
     #[test]
-    fn no_rectangle_for_unbounded_scenes_or_a_camera_inside_the_bounds() {
+    fn no_rectangle_for_a_camera_inside_the_bounds() {
         let plane = format!("{CAMERA}scene = sphere(1) | plane([0, 1, 0], 1);");
         assert_eq!(screen_rect(&program(&plane), 64, 48), None);
         let inside = format!("{CAMERA}scene = box([20, 20, 20]);");
         assert_eq!(screen_rect(&program(&inside), 64, 48), None);
+    }
+
+    #[test]
+    fn a_floor_below_the_camera_leaves_out_the_sky() {
+        // Looking level from 2 above the floor: the horizon is the middle row.
+        let floor = "camera { position: [0, 2, 10], target: [0, 2, 0], fov: 50deg }\n\
+                     scene = plane([0, 1, 0], 0) | sphere(1);";
+        let [x0, y0, x1, y1] = screen_rect(&program(floor), 64, 48).expect("a rectangle");
+        assert_eq!((x0, x1, y1), (0, 64, 48));
+        assert!((20..24).contains(&y0), "{y0}");
+        // A ceiling above it: the sky only.
+        let ceiling = floor.replace("plane([0, 1, 0], 0) | sphere(1)", "plane([0, -1, 0], -4)");
+        let [_, y0, _, y1] = screen_rect(&program(&ceiling), 64, 48).expect("a rectangle");
+        assert_eq!(y0, 0);
+        assert!((24..28).contains(&y1), "{y1}");
+    }
+
+    /// The f64 stretch of the ray from `c` along `d` (normalised) inside `[lo, hi]`,
+    /// limited to `[0, reach]`: whether it is not empty.
+    fn meets(c: [f64; 3], d: [f64; 3], lo: [f64; 3], hi: [f64; 3], reach: f64) -> bool {
+        let (mut t0, mut t1) = (0.0f64, reach);
+        for k in 0..3 {
+            let (a, b) = ((lo[k] - c[k]) / d[k], (hi[k] - c[k]) / d[k]);
+            let (a, b) = if a.is_nan() {
+                (f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                (a, b)
+            };
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        t0 <= t1
+    }
+
+    #[test]
+    fn every_pixel_whose_ray_meets_the_bounds_lies_in_the_rectangle() {
+        // Each pixel's corners and centre, cast in f64 as the entry point casts them, against
+        // the box `ray_span` clips to; half-spaces, boxes reaching behind the camera, boxes
+        // cut by MAX_DISTANCE, cameras looking every way.
+        let scenes = [
+            "plane([0, 1, 0], 0.5)",
+            "plane([0, -1, 0], -3) & plane([1, 0, 0], 1)",
+            "plane([0, 0, 1], 0).translate([0, 0, -2])",
+            "box([40, 1, 40]).translate([0, -2, 0])",
+            "box([1, 1, 30])",
+            "sphere(2).translate([3, 1, -8])",
+            "box([100, 0.5, 2]).translate([0, 0, -35])",
+        ];
+        let cameras = [
+            ("[0, 2.5, 6]", "[0, 0.3, 0]"),
+            ("[0, 2, 10]", "[0, 2, 0]"),
+            ("[5, 6, 3]", "[0, 0, 0]"),
+            ("[0, 2, 4]", "[0, 10, 0]"),
+        ];
+        for scene in scenes {
+            for (position, target) in cameras {
+                let source = format!(
+                    "camera {{ position: {position}, target: {target}, fov: 60deg }}\n\
+                     render {{ max_distance: 40 }}\nscene = {scene};"
+                );
+                let p = program(&source);
+                let (w, h) = (48u32, 32u32);
+                let rect = screen_rect(&p, w, h);
+                let Some([x0, y0, x1, y1]) = rect else {
+                    continue;
+                };
+                let slabs = span_slabs(root_bounds(&p), [0.0; 3]);
+                let lo = slabs.map(|s| s.lo.map_or(f64::NEG_INFINITY, f64::from));
+                let hi = slabs.map(|s| s.hi.map_or(f64::INFINITY, f64::from));
+                let (f, r, u, tan) = camera_basis(&p.scene);
+                let c = p.scene.camera.position.map(f64::from);
+                let tan = tan as f64;
+                let aspect = w as f64 / h as f64;
+                for y in 0..h {
+                    for x in 0..w {
+                        let inside = (x0..x1).contains(&x) && (y0..y1).contains(&y);
+                        for (ox, oy) in [
+                            (0.0, 0.0),
+                            (0.999, 0.0),
+                            (0.0, 0.999),
+                            (0.999, 0.999),
+                            (0.5, 0.5),
+                        ] {
+                            let sx = 2.0 * (x as f64 + ox) / w as f64 - 1.0;
+                            let sy = 1.0 - 2.0 * (y as f64 + oy) / h as f64;
+                            let d: [f64; 3] = std::array::from_fn(|k| {
+                                f[k] as f64
+                                    + sx * tan * aspect * r[k] as f64
+                                    + sy * tan * u[k] as f64
+                            });
+                            let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                            let d = d.map(|v| v / l);
+                            let hit = meets(c, d, lo, hi, p.scene.render.max_distance as f64);
+                            assert!(
+                                inside || !hit,
+                                "{source}: pixel ({x}, {y}) meets the bounds outside {rect:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+#[test]
+fn dbg_floor() {
+    for src in [
+        "scene = plane([0, 1, 0], 0);",
+        "scene = plane([0, 1, 0], 1);",
+        "scene = plane([0, 1, 0], 0.5);",
+    ] {
+        let p = crate::compile(src, &crate::Options::default())
+            .unwrap()
+            .stages
+            .program;
+        eprintln!("{src} {:?}", root_bounds(&p));
     }
 }

@@ -59,6 +59,18 @@ impl Aabb {
             .sqrt()
     }
 
+    /// The box of `s l - o` for `l` in this box: exact axis by axis, so a box unbounded on
+    /// some sides stays bounded on the others, where [`Aabb::map_corners`] gives up. `s` is
+    /// non-zero and finite.
+    pub fn moved(&self, s: f64, o: [f64; 3]) -> Aabb {
+        let a = [0, 1, 2].map(|k| s * self.lo[k] - o[k]);
+        let b = [0, 1, 2].map(|k| s * self.hi[k] - o[k]);
+        Aabb {
+            lo: [0, 1, 2].map(|k| a[k].min(b[k])),
+            hi: [0, 1, 2].map(|k| a[k].max(b[k])),
+        }
+    }
+
     /// The box of the images of this box's corners under `f` (exact for linear maps).
     pub fn map_corners(&self, f: impl Fn([f64; 3]) -> [f64; 3]) -> Aabb {
         if !self.is_bounded() {
@@ -86,6 +98,24 @@ impl Aabb {
     }
 }
 
+/// The box of the half-space `dot(p, n) <= h` where `n` has one non-zero component: one end
+/// of that axis finite, everything else infinite. `None` for any other normal.
+fn axis_half_space(n: [f64; 3], h: f64) -> Option<Aabb> {
+    let mut axes = (0..3).filter(|&k| n[k] != 0.0);
+    let k = axes.next()?;
+    if axes.next().is_some() {
+        return None;
+    }
+    let end = h / n[k];
+    let mut b = Aabb::EVERYTHING;
+    if n[k] > 0.0 {
+        b.hi[k] = end;
+    } else {
+        b.lo[k] = end;
+    }
+    end.is_finite().then_some(b)
+}
+
 /// Bounds of a primitive from its constant arguments (`None` where one is not constant).
 pub fn prim(prim: Prim, args: &[Option<Value<f32>>]) -> Aabb {
     let f = |i: usize| match args.get(i) {
@@ -99,7 +129,11 @@ pub fn prim(prim: Prim, args: &[Option<Value<f32>>]) -> Aabb {
     let b = match prim {
         Prim::Sphere => f(0).map(|r| Aabb::symmetric([r; 3])),
         Prim::Box | Prim::RoundBox => v(0).map(|s| Aabb::symmetric(s.map(|x| x * 0.5))),
-        Prim::Plane => None,
+        // An axis-aligned normal bounds the half-space on one side: dot(p, n) <= h.
+        Prim::Plane => match (v(0), f(1)) {
+            (Some(n), Some(h)) => axis_half_space(n, h),
+            _ => None,
+        },
         Prim::Torus => match (f(0), f(1)) {
             (Some(big), Some(r)) => Some(Aabb::symmetric([big + r, r, big + r])),
             _ => None,

@@ -470,6 +470,13 @@ impl Analyser<'_> {
                     },
                     None => 1.0,
                 };
+                // A box open on some sides (a floor's half-space) keeps its closed ones under
+                // a move and a scale. (Turns are not exact in f32: a quarter turn's matrix has
+                // entries of 1e-8, which mix an infinite side into every axis.)
+                let scales = s != 0.0 && s.is_finite();
+                if m.is_none() && scales && !c.bounds.is_bounded() {
+                    return (c.exactness, c.bounds.moved(s, o));
+                }
                 let b = c.bounds.map_corners(|l| {
                     let v = [0, 1, 2].map(|i| s * l[i] - o[i]);
                     match m {

@@ -106,16 +106,20 @@ pub fn frame_data_with(
         data.push(if float { [v[0]; 4] } else { *v });
     }
     // The scene's slabs as the specialised shader's `ray_span` has them: low corner with the
-    // mask of finite axes in w, high corner.
+    // mask of finite ends in w (bit k: axis k's low end, bit k + 3: its high end), high corner.
     let bounds_at = data.len() as u32;
     let slabs = span_slabs(root_bounds(program), origin);
     let mut lo = [0.0f32; 4];
     let mut hi = [0.0f32; 4];
     let mut mask = 0u32;
     for (k, slab) in slabs.iter().enumerate() {
-        if let Some((a, b)) = *slab {
-            (lo[k], hi[k]) = (a, b);
+        if let Some(a) = slab.lo {
+            lo[k] = a;
             mask |= 1 << k;
+        }
+        if let Some(b) = slab.hi {
+            hi[k] = b;
+            mask |= 8 << k;
         }
     }
     lo[3] = mask as f32;

@@ -95,6 +95,13 @@ pub fn run(r: &Request) -> Outcome {
 /// Warms the interpreter on a thread of its own: after it, an edit costs the interpreter an
 /// upload and a frame, not a pipeline.
 fn warm(renderer: &sdfc_render::Renderer) {
+    // wgpu's GL backend serves one thread at a time (the renderer makes the others wait):
+    // a preview could not be drawn while the pipeline builds, and the warm-up, minutes of
+    // llvmpipe's time without Mesa's shader cache, would hold up every edit's frame.
+    if renderer.adapter_description().backend == "Gl" {
+        say!("sdfc: no previews on the GL backend: its one context serves one thread at a time");
+        return;
+    }
     let started = Instant::now();
     renderer.warm_interpreter_in_background(move |warm| match warm {
         Ok(()) => say!(

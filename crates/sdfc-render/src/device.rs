@@ -1,6 +1,7 @@
 //! Opening the device, catching its errors, and the pipeline cache.
 
 use crate::pipelines::{CachedPipeline, Kind, Pipelines};
+use crate::serial::Serial;
 use crate::RenderError;
 use std::fmt;
 use std::sync::atomic::Ordering;
@@ -72,6 +73,8 @@ pub struct Shared {
     /// [`Renderer::wait_for_background_work`].
     pub(crate) background: Mutex<Vec<std::thread::JoinHandle<()>>>,
     sink: Arc<ErrorSink>,
+    /// Whether work on this device waits for other threads' (a GL device; `serial.rs`).
+    pub(crate) serial: Serial,
 }
 
 /// Mesa's device-select layer, an implicit Vulkan layer, connects to the Wayland display to
@@ -356,6 +359,9 @@ impl Renderer {
             return Err(RenderError::Device(errors.join("; ")));
         }
         let device_handle = device.clone();
+        let serial = Serial {
+            gl: info.backend == wgpu::Backend::Gl,
+        };
         Ok(Renderer(Arc::new(Shared {
             limits: device.limits(),
             device,
@@ -366,6 +372,7 @@ impl Renderer {
                 device_handle,
                 sink.clone(),
                 [render_layout, eval_layout, interp_layout, data_layout],
+                serial,
             ),
             render_bind_layout,
             eval_bind_layout,
@@ -374,6 +381,7 @@ impl Renderer {
             interpreter_warm: Default::default(),
             background: Mutex::new(Vec::new()),
             sink,
+            serial,
         })))
     }
 
@@ -415,6 +423,7 @@ impl Renderer {
     /// pipeline until then, so that re-rendering a scene or changing a param never
     /// recompiles. Rendering a forgotten scene again compiles it again.
     pub fn forget_scene_pipelines(&self) {
+        let _serial = self.serial.hold();
         self.pipelines.forget_scenes();
     }
 
@@ -439,11 +448,13 @@ impl Renderer {
     /// on this renderer fails with [`RenderError::DeviceLost`] (a new `Renderer` is needed).
     /// It exists so that tests and embedders can exercise their lost-device path.
     pub fn lose_device(&self) {
+        let _serial = self.serial.hold();
         self.device.destroy();
     }
 
     /// Fails if the device was lost or reported errors nobody's scope caught.
     pub(crate) fn check_health(&self) -> Result<(), RenderError> {
+        let _serial = self.serial.hold();
         health(&self.device, &self.sink)
     }
 

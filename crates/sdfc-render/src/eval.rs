@@ -22,6 +22,7 @@ impl Renderer {
         time: f32,
         params: &[(String, Vec<f32>)],
     ) -> Result<Vec<f32>, RenderError> {
+        let _serial = self.serial.hold();
         let values = params::values(program, params)?;
         params::check_time(time)?;
         self.check_health()?;

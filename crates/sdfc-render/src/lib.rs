@@ -82,6 +82,7 @@ pub mod output;
 mod params;
 mod pipelines;
 mod render;
+mod serial;
 mod tiles;
 
 pub use device::{quiet_headless_vulkan, AdapterDescription, Renderer};

@@ -2,6 +2,7 @@
 //! thread asks first, without holding up builds of other texts.
 
 use crate::device::{health, ErrorSink, Scopes};
+use crate::serial::Serial;
 use crate::RenderError;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
@@ -53,6 +54,7 @@ pub(crate) struct Pipelines {
     layouts: [wgpu::PipelineLayout; 4],
     slots: Mutex<HashMap<u64, Vec<Arc<Slot>>>>,
     compilations: AtomicUsize,
+    serial: Serial,
 }
 
 impl Pipelines {
@@ -60,6 +62,7 @@ impl Pipelines {
         device: wgpu::Device,
         sink: Arc<ErrorSink>,
         layouts: [wgpu::PipelineLayout; 4],
+        serial: Serial,
     ) -> Pipelines {
         Pipelines {
             device,
@@ -67,6 +70,7 @@ impl Pipelines {
             layouts,
             slots: Mutex::new(HashMap::new()),
             compilations: AtomicUsize::new(0),
+            serial,
         }
     }
 
@@ -78,6 +82,7 @@ impl Pipelines {
     /// Drops the cached pipelines of scenes (rendering and evaluation), keeping the
     /// interpreter's, which every scene shares. A build under way finishes for its asker.
     pub(crate) fn forget_scenes(&self) {
+        let _serial = self.serial.hold();
         let mut cache = self.slots.lock().unwrap_or_else(|e| e.into_inner());
         cache.retain(|_, slots| {
             slots.retain(|s| s.kind == Kind::Interpreted);
@@ -87,6 +92,8 @@ impl Pipelines {
 
     /// The compute pipeline of `wgsl`, compiled on first use and cached by the text's hash.
     pub(crate) fn get(&self, kind: Kind, wgsl: &str) -> Result<Arc<CachedPipeline>, RenderError> {
+        // Before the slot's lock: a thread holding the slot waits for no other's GL work.
+        let _serial = self.serial.hold();
         health(&self.device, &self.sink)?;
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         kind.hash(&mut hasher);

@@ -208,6 +208,8 @@ impl Renderer {
         opts: &RenderOptions,
         unroll: u32,
     ) -> Result<(Frame, usize), RenderError> {
+        // Held from the build to the end of the frame, the pipeline's last use (on GL).
+        let _serial = self.serial.hold();
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         let (gx, gy) = self.check_size(opts.width, opts.height, opts.aovs)?;

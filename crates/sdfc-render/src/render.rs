@@ -160,6 +160,8 @@ impl Renderer {
         data: Option<&[u8]>,
         opts: &RenderOptions,
     ) -> Result<Frame, RenderError> {
+        // Held from the build to the end of the frame, the pipeline's last use (on GL).
+        let _serial = self.serial.hold();
         let params = params::values(program, &opts.params)?;
         params::check_time(opts.time)?;
         // A lost device fails at once, before a pipeline is built on it.

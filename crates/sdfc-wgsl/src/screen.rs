@@ -307,17 +307,3 @@ mod tests {
         }
     }
 }
-#[test]
-fn dbg_floor() {
-    for src in [
-        "scene = plane([0, 1, 0], 0);",
-        "scene = plane([0, 1, 0], 1);",
-        "scene = plane([0, 1, 0], 0.5);",
-    ] {
-        let p = crate::compile(src, &crate::Options::default())
-            .unwrap()
-            .stages
-            .program;
-        eprintln!("{src} {:?}", root_bounds(&p));
-    }
-}

@@ -356,12 +356,18 @@ impl Renderer {
             _ => (encode(previewed).map_err(|e| e.to_string())?, previewed),
         };
         if self.adapter_description().software && !self.interpreter_is_warm() {
-            return Err(
+            return Err(if self.serial.gl {
+                // `sdfc render --live --watch` does not warm it there (`serial.rs`).
+                "on a CPU device the interpreter draws previews only once it is warm, and on \
+                 the GL backend, whose one context serves one thread at a time, it is not \
+                 warmed for previews"
+                    .into()
+            } else {
                 "on a CPU device the interpreter draws previews only once it is warm \
                  (`Renderer::warm_interpreter`; `sdfc render --live --watch` warms it after \
                  its first frame)"
-                    .into(),
-            );
+                    .into()
+            });
         }
         Ok(code)
     }

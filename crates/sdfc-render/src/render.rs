@@ -212,7 +212,6 @@ impl Renderer {
         opts: &RenderOptions,
         (gx, gy): (u32, u32),
     ) -> Result<Frame, RenderError> {
-        let _serial = self.serial.hold();
         // A lost device fails at once, before any work is recorded on it.
         self.check_health()?;
         let pixels = opts.width as u64 * opts.height as u64;
@@ -347,7 +346,6 @@ impl Renderer {
     /// callbacks, a moment after our own poll returns: so wait for the callbacks themselves,
     /// polling again now and then, until each has reported.
     pub(crate) fn map_and_wait(&self, buffers: &[&wgpu::Buffer]) -> Result<(), RenderError> {
-        let _serial = self.serial.hold();
         let (tx, rx) = mpsc::channel();
         for (i, b) in buffers.iter().enumerate() {
             let tx = tx.clone();

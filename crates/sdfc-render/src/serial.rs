@@ -11,7 +11,11 @@
 //!
 //! The lock is re-entrant per thread, so the renderer's functions that call each other may
 //! each take it; each takes it before any other lock of the renderer (the pipeline cache's
-//! slots), so no two threads can wait for each other.
+//! slots), so no two threads can wait for each other. It is taken where device work begins
+//! and held until its wgpu objects are dropped: a frame (`render_text`,
+//! `render_bytecode_cut`, which cover `dispatch` and `map_and_wait`), an evaluation
+//! (`eval_gpu`), a pipeline's build (`Pipelines::get`), a health check, forgetting pipelines
+//! and losing the device.
 
 use std::cell::Cell;
 use std::sync::{Mutex, MutexGuard};

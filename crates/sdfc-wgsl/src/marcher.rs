@@ -346,13 +346,6 @@ pub struct Slab {
     pub hi: Option<f32>,
 }
 
-impl Slab {
-    /// Both ends, where both are finite.
-    pub fn both(&self) -> Option<(f32, f32)> {
-        self.lo.zip(self.hi)
-    }
-}
-
 /// The slabs `ray_span` clips rays to: per axis, the ends of the scene's bounds that are
 /// finite, in shader coordinates (`origin` subtracted), each padded by a thousandth of the
 /// box's size over its axes bounded on both sides (and at least 1e-3) so that f32 rounding of

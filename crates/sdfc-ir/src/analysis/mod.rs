@@ -470,11 +470,11 @@ impl Analyser<'_> {
                     },
                     None => 1.0,
                 };
-                // A box open on some sides (a floor's half-space) keeps its closed ones under
-                // a move and a scale. (Turns are not exact in f32: a quarter turn's matrix has
-                // entries of 1e-8, which mix an infinite side into every axis.)
-                let scales = s != 0.0 && s.is_finite();
-                if m.is_none() && scales && !c.bounds.is_bounded() {
+                // Without a turn, axis by axis: a box open on some sides (a floor's
+                // half-space) keeps its closed ones, where the corners' box gives up. (Turns
+                // are not exact in f32: a quarter turn's matrix has entries of 1e-8, which
+                // mix an infinite side into every axis.)
+                if m.is_none() && s != 0.0 && s.is_finite() {
                     return (c.exactness, c.bounds.moved(s, o));
                 }
                 let b = c.bounds.map_corners(|l| {

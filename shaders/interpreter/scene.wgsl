@@ -68,7 +68,8 @@ fn scene_normal(p: vec3<f32>, h: f32) -> vec3<f32> {
 }
 
 // The hard (`frame.shadows` 1) and soft shadows of shaders/shading in one loop, each
-// stepping as its own part does: one call of the interpreter to inline instead of two.
+// stepping and stopping as its own part does (at the scene's bounds too, `bounds_outside`):
+// one call of the interpreter to inline instead of two.
 fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
     let hard = frame.shadows == 1u;
     var light = 1.0;
@@ -77,16 +78,27 @@ fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
         if t >= tmax {
             break;
         }
-        let h = scene_distance(ro + rd * t);
+        let q = ro + rd * t;
+        let h = scene_distance(q);
+        let v = bounds_outside(q);
         if hard {
             if h < 1e-5 * (1.0 + t) {
                 return 0.0;
+            }
+            if dot(v, rd) > 0.0 {
+                break;
             }
             t = t + h;
         } else {
             light = min(light, SHADOW_K * h / max(t, 1e-6));
             if light <= 0.0 {
                 return 0.0;
+            }
+            let out = length(v);
+            // The specialised shader's OUTSIDE_FACTOR (0: never stops).
+            let reach = SHADOW_K * data[frame.bounds_at + 1u].w;
+            if reach * out > t && reach * dot(v, rd) >= out {
+                break;
             }
             t = t + max(h, 1e-3 * t + 1e-5);
         }
@@ -135,6 +147,18 @@ fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {
         return mix(frame.fog_color, c, exp(-frame.fog_density * t));
     }
     return c;
+}
+
+// How far p lies outside the scene's bounds (padded), per axis (0 inside), as the specialised
+// shader's `bounds_outside` computes it from its constants: an end whose bit is not set in
+// the mask (see `ray_span`) is open, and clamps to +-3e38 as there.
+fn bounds_outside(p: vec3<f32>) -> vec3<f32> {
+    let lo = data[frame.bounds_at];
+    let hi = data[frame.bounds_at + 1u];
+    let ends = vec3<u32>(u32(lo.w));
+    let a = select(vec3<f32>(-3e38), lo.xyz, (ends & vec3<u32>(1u, 2u, 4u)) != vec3<u32>(0u));
+    let b = select(vec3<f32>(3e38), hi.xyz, (ends & vec3<u32>(8u, 16u, 32u)) != vec3<u32>(0u));
+    return p - clamp(p, a, b);
 }
 
 // The stretch of the ray inside the scene's bounds (padded), as the specialised shader's

@@ -92,3 +92,117 @@ fn a_floor_bounds_the_scene_above_and_a_ceiling_below() {
     );
     assert!(!f.contains("rd.z"), "{f}");
 }
+
+/// `bounds_outside`, which shadow rays read to stop once they have left the scene's bounds
+/// for good: the same padded box as `ray_span`, open ends clamped to +-3e38; emitted only
+/// with shadows, and answering "inside" everywhere for a scene without finite bounds.
+fn bounds_outside_of(src: &str) -> Option<String> {
+    let wgsl = compile(src, &Options::default())
+        .unwrap_or_else(|e| panic!("{src}: {e:?}"))
+        .wgsl;
+    let start = wgsl.find("fn bounds_outside(")?;
+    let end = start + wgsl[start..].find("\n}\n").expect("end of bounds_outside");
+    Some(wgsl[start..end].to_string())
+}
+
+#[test]
+fn shadow_rays_stop_at_the_same_bounds() {
+    let f = bounds_outside_of(
+        "render { shadows: soft(8) }\nscene = sphere(1) | box([1, 2, 3]).translate([4, 0, 0]);\n",
+    )
+    .expect("emitted with shadows");
+    // ray_span's padded ends (a_bounded_scene_gets_a_slab_per_axis).
+    assert!(f.contains("clamp(p, vec3<f32>(-1.0055001, "), "{f}");
+    assert!(f.contains("vec3<f32>(4.5055003, "), "{f}");
+    // A floor: only the top is finite.
+    let f =
+        bounds_outside_of("render { shadows: hard }\nscene = sphere(0.5) | plane([0, 1, 0], 1);\n")
+            .expect("emitted with hard shadows");
+    assert!(
+        f.contains("clamp(p, vec3<f32>(-3e38), vec3<f32>(3e38, 1.001, 3e38))"),
+        "{f}"
+    );
+    // Unbounded: never left.
+    let f = bounds_outside_of(
+        "render { shadows: soft(8) }\nscene = sphere(1) | plane([0, 1, 1], 1);\n",
+    )
+    .expect("emitted");
+    assert!(f.contains("return vec3<f32>(0.0);"), "{f}");
+    // No shadows, no test.
+    assert!(bounds_outside_of("scene = sphere(1);\n").is_none());
+}
+
+/// `OUTSIDE_FACTOR` of a scene with soft shadows.
+fn outside_factor_of(src: &str) -> f32 {
+    let wgsl = compile(src, &Options::default())
+        .unwrap_or_else(|e| panic!("{src}: {e:?}"))
+        .wgsl;
+    let key = "const OUTSIDE_FACTOR: f32 = ";
+    let at = wgsl.find(key).expect("the factor") + key.len();
+    let end = at + wgsl[at..].find(';').expect("its end");
+    wgsl[at..end].parse().expect("a float")
+}
+
+#[test]
+fn the_outside_factor_follows_the_distance() {
+    let soft = "render { shadows: soft(8) }\nscene = ";
+    let cases: &[(&str, f32)] = &[
+        // Exact distances, and what keeps them so outside the box.
+        (
+            "box([1, 2, 3]) | sphere(1).translate([4, 0, 0]) | plane([0, 1, 0], 0)",
+            1.0,
+        ),
+        (
+            "union(sphere(1), sphere(1).translate([1.5, 0, 0]), smooth: 0.3)",
+            1.0,
+        ),
+        ("box([1, 1, 1]).round(0.2).rotate_y(30deg).scale(2)", 1.0),
+        ("subtract(box([1, 1, 1]), sphere(1.2))", 1.0),
+        ("sphere(0.4).repeat([2, 0, 2])", 1.0),
+        // A heightfield of slope 1.7 divides by sqrt(1 + 1.7^2) = 1.972...
+        (
+            "heightfield(|x, z| 0.5 * sin(x), lipschitz: 1.7)",
+            0.5070201,
+        ),
+        // An intersection: by the child whose box is the intersection's, else 1 / sqrt(n).
+        ("intersect(sphere(1), box([4, 4, 4]))", 1.0),
+        (
+            "intersect(sphere(1), box([2, 2, 2]).translate([1, 1, 1]))",
+            0.70710677,
+        ),
+        // An ellipsoid's bound: min(r) / max(r).
+        ("ellipsoid([1, 0.5, 0.25])", 0.25),
+        // Unknown: a twist's bound, a smooth intersection, an `sdf`.
+        ("box([0.5, 1, 0.5]).twist(1) | plane([0, 1, 0], 0)", 0.0),
+        (
+            "intersect(sphere(1), box([0.8, 0.8, 0.8]), smooth: 0.2)",
+            0.0,
+        ),
+        ("sdf(|p| length(p) - 1)", 0.0),
+    ];
+    for (scene, want) in cases {
+        let src = format!("{soft}{scene};\n");
+        let got = outside_factor_of(&src);
+        assert!(
+            (got - want).abs() <= 1e-6 * want.max(1.0),
+            "{scene}: {got}, expected {want}"
+        );
+        // A soft shadow never stops where the factor is unknown.
+        let f = bounds_outside_of(&src).expect("emitted");
+        assert_eq!(
+            *want == 0.0,
+            f.contains("return vec3<f32>(0.0);"),
+            "{scene}: {f}"
+        );
+    }
+}
+
+#[test]
+fn hard_shadows_stop_at_the_bounds_whatever_the_distance() {
+    // The box holds every surface: a hard shadow ray that has left it meets none.
+    let f = bounds_outside_of(
+        "render { shadows: hard }\nscene = box([0.5, 1, 0.5]).twist(1) | plane([0, 1, 0], 0);\n",
+    )
+    .expect("emitted");
+    assert!(f.contains("clamp(p, "), "{f}");
+}

@@ -27,6 +27,10 @@ pub struct View<'a> {
     /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
     /// more finely (`touch_distance` in `shaders/hit.wgsl`).
     pub trusted: bool,
+    /// Outside the scene's bounds its distance is at least this factor times the distance to
+    /// them (`Analysis::outside_factor`; 0 where nothing is known): soft shadow rays stop at
+    /// the bounds by it (`bounds_outside`).
+    pub outside: f64,
     /// Whether the march's distance is dear (a union read as data, or `dear::is_dear`): the
     /// march (plain or relaxed) then refines in its stepping loop (`shaders/march_merged.wgsl`).
     pub dear: bool,
@@ -112,8 +116,10 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     }
     match scene.render.shadows {
         Shadows::None => {}
-        Shadows::Hard => s += &format!("{}\n", parts::SHADOW_HARD),
-        Shadows::Soft(_) => s += &format!("{}\n", parts::SHADOW_SOFT),
+        Shadows::Hard => s += &format!("{}\n{}\n", bounds_outside(view, true), parts::SHADOW_HARD),
+        Shadows::Soft(_) => {
+            s += &format!("{}\n{}\n", bounds_outside(view, false), parts::SHADOW_SOFT)
+        }
     }
     if scene.render.ao.is_some() {
         s += parts::AMBIENT_OCCLUSION;
@@ -417,6 +423,45 @@ fn ray_span(view: &View) -> String {
     s
 }
 
+/// `bounds_outside(p)`: how far p lies outside the box `ray_span` clips rays to, per axis
+/// (0 inside), which shadow rays read to stop where no surface can darken them any more
+/// (`shaders/shading/shadow_hard.wgsl`, `shadow_soft.wgsl`); for soft shadows also
+/// `OUTSIDE_FACTOR` ([`View::outside`]), by which the scene's distance outside the box is at
+/// least the distance to it. An unbounded axis clamps to +-3e38 (no f32 point lies beyond).
+/// Where nothing can stop a shadow ray (a scene unbounded on every axis; soft shadows where
+/// the factor is unknown) the box is never left, and the driver folds the test away.
+fn bounds_outside(view: &View, hard: bool) -> String {
+    let slabs = span_slabs(view.bounds, view.origin);
+    let factor = f32_down(view.outside.clamp(0.0, 1.0));
+    let mut s = String::new();
+    if !hard {
+        let _ = writeln!(
+            s,
+            "// Outside the scene's bounds its distance is at least OUTSIDE_FACTOR times the distance\n\
+             // to them (0: not known), so a soft shadow's cone that has left them for good stays free.\n\
+             const OUTSIDE_FACTOR: f32 = {};\n",
+            float(factor)
+        );
+    }
+    s +=
+        "// How far p lies outside the scene's bounds (padded), per axis (0 inside): shadow rays\n\
+          // stop once they leave them for good.\n\
+          fn bounds_outside(p: vec3<f32>) -> vec3<f32> {\n";
+    if slabs.iter().all(|s| s.lo.is_none() && s.hi.is_none()) || (!hard && factor == 0.0) {
+        s += "    return vec3<f32>(0.0);\n}\n";
+        return s;
+    }
+    let lo = slabs.map(|s| s.lo.unwrap_or(-3.0e38));
+    let hi = slabs.map(|s| s.hi.unwrap_or(3.0e38));
+    let _ = writeln!(
+        s,
+        "    return p - clamp(p, {}, {});\n}}",
+        vec3(lo),
+        vec3(hi)
+    );
+    s
+}
+
 /// `ray_span`'s test for an axis bounded at one end `v` only, its low end if `low`: a ray
 /// heading for the open side leaves the box there (a low end is where a rising ray enters),
 /// and one parallel to the end misses where it is outside of it.
@@ -555,6 +600,7 @@ mod tests {
             bounds: ([0.0; 3], [0.0; 3]),
             ray_lists,
             trusted: true,
+            outside: 1.0,
             dear: ray_lists,
         }
     }

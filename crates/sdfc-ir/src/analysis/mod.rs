@@ -16,7 +16,7 @@ use crate::hash::FxHashMap;
 use crate::ops::Op;
 use crate::passes::fold::const_value;
 use crate::scene::Scene;
-use crate::shape::{CombineOp, Declared, DistMod, PointMap, ShapeKind, WarpMap};
+use crate::shape::{CombineOp, Declared, DistMod, PointMap, Prim, ShapeKind, WarpMap};
 use crate::value::Value;
 use bounds::Aabb;
 pub use explain::explain;
@@ -80,6 +80,14 @@ pub struct NodeInfo {
     /// function (the displacement; the height, by x and z with 0 for y), where all are finite.
     /// `scene_distance_ray` divides by the slope along the ray that they bound.
     pub partials: Option<[f64; 3]>,
+    /// Outside its bounds the node's field is at least this factor times the distance to
+    /// them (0: nothing is known). 1 for an exact distance (every surface lies in the box);
+    /// `1 / L` for a heightfield or a displacement of an exact child divided by L; kept by
+    /// hard unions (the least factor), moves, turns, scales, mirrors, repetitions, elongation
+    /// and materials; 1 through a `round`, an `onion` and a smooth union of children with 1
+    /// (their boxes grow by what the value drops). Shadow rays stop once their cone has left
+    /// the scene's box for good by it (`bounds_outside` in the emitted shader).
+    pub outside: f64,
 }
 
 /// The analysis of a scene, node by node (indexed like `Scene::shapes`).
@@ -105,6 +113,16 @@ impl Analysis {
             _ => false,
         } || n.exactness == Exactness::Neither);
         !self.nodes.is_empty() && !estimated
+    }
+}
+
+impl Analysis {
+    /// Outside the scene's bounds its distance is at least this factor times the distance
+    /// to them ([`NodeInfo::outside`] of the root; 0 where nothing is known).
+    pub fn outside_factor(&self, scene: &Scene) -> f64 {
+        self.nodes
+            .get(scene.root.index())
+            .map_or(0.0, |n| n.outside)
     }
 }
 
@@ -216,7 +234,7 @@ impl Analyser<'_> {
     fn node(&mut self, i: usize) -> NodeInfo {
         let node = &self.scene.shapes[i];
         let span = node.span;
-        let plain = |exactness, bounds| NodeInfo {
+        let plain = |exactness, bounds, outside| NodeInfo {
             exactness,
             bounds,
             lipschitz: None,
@@ -224,16 +242,17 @@ impl Analyser<'_> {
             normalises: false,
             reach: None,
             partials: None,
+            outside,
         };
         match &node.kind {
             ShapeKind::Prim { prim, args } => {
                 let vals: Vec<Option<Value<f32>>> = args.iter().map(|a| self.konst(*a)).collect();
-                let e = if prim.exact() {
-                    Exactness::Exact
+                let (e, outside) = if prim.exact() {
+                    (Exactness::Exact, 1.0)
                 } else {
-                    Exactness::Bound
+                    (Exactness::Bound, self.bound_prim_outside(*prim, &vals))
                 };
-                plain(e, bounds::prim(*prim, &vals))
+                plain(e, bounds::prim(*prim, &vals), outside)
             }
             ShapeKind::Sdf {
                 body,
@@ -257,6 +276,7 @@ impl Analyser<'_> {
                     normalises: true,
                     reach: None,
                     partials: None,
+                    outside: 0.0,
                 }
             }
             ShapeKind::Displace {
@@ -313,6 +333,12 @@ impl Analyser<'_> {
                         .first()
                         .map(|c| c.v)
                         .filter(|v| v.iter().all(|x| x.is_finite())),
+                    // Outside the box (the child's grown by the largest |displacement| g),
+                    // base + disp >= dist(child's box) - g >= dist(box) for an exact child.
+                    outside: match l {
+                        Some(l) if c.outside >= 1.0 && grow.is_finite() && l >= 1.0 => 1.0 / l,
+                        _ => 0.0,
+                    },
                 }
             }
             ShapeKind::Heightfield {
@@ -366,6 +392,8 @@ impl Analyser<'_> {
                     partials: height
                         .map(|c| c.v)
                         .filter(|v| v.iter().all(|x| x.is_finite())),
+                    // Above the top, p.y - h >= p.y - top, the distance to the box.
+                    outside: l.map_or(0.0, |l| 1.0 / (1.0 + l * l).sqrt()),
                 }
             }
             ShapeKind::Warp {
@@ -384,6 +412,7 @@ impl Analyser<'_> {
                     normalises: true,
                     reach: None,
                     partials: None,
+                    outside: 0.0,
                 }
             }
             ShapeKind::Combine {
@@ -413,19 +442,49 @@ impl Analyser<'_> {
                     CombineOp::Subtract => kids.first().map(|k| k.bounds),
                 }
                 .unwrap_or(Aabb::EVERYTHING);
+                let least = kids.iter().map(|k| k.outside).fold(1.0, f64::min);
+                let mut outside = match (op, smooth) {
+                    (CombineOp::Union, _) => least,
+                    // The max is at least the first child's, whose box is the node's.
+                    (CombineOp::Subtract, None) => kids.first().map_or(0.0, |k| k.outside),
+                    // At least each child's: by any child whose box is the node's, and by
+                    // all n together, since per axis the distance to the boxes' intersection
+                    // is the largest of the distances to each, so its square is at most the
+                    // sum of theirs, n times the largest (an empty intersection: nothing).
+                    (CombineOp::Intersect, None) => {
+                        let n = kids.len().max(1) as f64;
+                        let all = if b.lo.iter().zip(&b.hi).all(|(l, h)| l <= h) {
+                            least / n.sqrt()
+                        } else {
+                            0.0
+                        };
+                        kids.iter()
+                            .filter(|k| k.bounds == b)
+                            .map(|k| k.outside)
+                            .fold(all, f64::max)
+                    }
+                    _ => 0.0,
+                };
                 if let (CombineOp::Union, Some(k)) = (op, smooth) {
-                    // The polynomial smooth min is at most k/4 below the min.
+                    // The polynomial smooth min is at most k/4 below the min, and the box
+                    // grows by k/4 (for children with factor 1, the value still exceeds the
+                    // distance to the grown box).
                     b = match self.scalar(*k) {
                         Some(k) => b.grow(k * 0.25),
                         None => Aabb::EVERYTHING,
                     };
+                    if least < 1.0 || !self.scalar(*k).is_some_and(|k| k >= 0.0) {
+                        outside = 0.0;
+                    }
                 }
-                plain(exactness, b)
+                plain(exactness, b, outside)
             }
             ShapeKind::Map { map, child } => {
                 let c = self.info(*child).clone();
                 let (e, b) = self.point_map(map, &c);
-                plain(e, b)
+                // Each map moves the point to one at least as far from the child's box as
+                // it is from the node's (turns and scales by the same factor as the value).
+                plain(e, b, c.outside)
             }
             ShapeKind::Modify { modifier, child } => {
                 let c = self.info(*child).clone();
@@ -436,12 +495,38 @@ impl Analyser<'_> {
                     Some(r) => c.bounds.grow(r),
                     None => Aabb::EVERYTHING,
                 };
-                plain(c.exactness, b)
+                // d - r >= dist(child's box) - r >= dist(box grown by r) for a child with
+                // factor 1 (outside, an onion's |d| is d).
+                let outside = match r {
+                    Some(r) if r >= 0.0 && c.outside >= 1.0 => 1.0,
+                    _ => 0.0,
+                };
+                plain(c.exactness, b, outside)
             }
             ShapeKind::Material { child, .. } => {
                 let c = self.info(*child).clone();
-                plain(c.exactness, c.bounds)
+                plain(c.exactness, c.bounds, c.outside)
             }
+        }
+    }
+
+    /// [`NodeInfo::outside`] of a primitive whose distance is a bound. The ellipsoid's first
+    /// term, (|u| - 1) min(r) with u = p / r, is at least min(r) / max(r) times the distance
+    /// to its box [-r, r]: with w_k = max(|u_k| - 1, 0), that distance is at most max(r) |w|,
+    /// and |u| >= |w| + 1 (|u|^2 >= |w|^2 + 2 |w|_1 + 1 outside the box). The fractals:
+    /// nothing known.
+    fn bound_prim_outside(&self, prim: Prim, vals: &[Option<Value<f32>>]) -> f64 {
+        match (prim, vals.first()) {
+            (Prim::Ellipsoid, Some(Some(Value::V3(r)))) => {
+                let lo = r.iter().fold(f64::INFINITY, |a, &x| a.min(x as f64));
+                let hi = r.iter().fold(0.0f64, |a, &x| a.max(x as f64));
+                if lo > 0.0 && hi.is_finite() {
+                    lo / hi
+                } else {
+                    0.0
+                }
+            }
+            _ => 0.0,
         }
     }
 

@@ -5,6 +5,7 @@
 
 use super::encode::Bytecode;
 use crate::marcher::{camera_basis, root_bounds, span_slabs};
+use sdfc_ir::rounding::f32_down;
 use sdfc_ir::scene::{Epsilon, LightKind, Normals, RenderSettings, Shadows};
 use sdfc_ir::types::Ty;
 use sdfc_ir::Program;
@@ -106,7 +107,8 @@ pub fn frame_data_with(
         data.push(if float { [v[0]; 4] } else { *v });
     }
     // The scene's slabs as the specialised shader's `ray_span` has them: low corner with the
-    // mask of finite ends in w (bit k: axis k's low end, bit k + 3: its high end), high corner.
+    // mask of finite ends in w (bit k: axis k's low end, bit k + 3: its high end), high corner
+    // with the outside factor in w.
     let bounds_at = data.len() as u32;
     let slabs = span_slabs(root_bounds(program), origin);
     let mut lo = [0.0f32; 4];
@@ -123,6 +125,14 @@ pub fn frame_data_with(
         }
     }
     lo[3] = mask as f32;
+    // The factor by which the distance outside the box is at least the distance to it
+    // (`OUTSIDE_FACTOR` of the specialised shader).
+    hi[3] = f32_down(
+        program
+            .analysis
+            .outside_factor(&program.scene)
+            .clamp(0.0, 1.0),
+    );
     data.push(lo);
     data.push(hi);
     let consts_at = data.len() as u32;

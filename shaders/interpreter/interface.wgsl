@@ -43,7 +43,8 @@ struct Frame {
     params_at: u32,
     consts_at: u32,
     // Where the scene's bounds are in `data`: (low corner, mask of the finite ends), then
-    // (high corner, the outside factor of `shadow`); see `ray_span`.
+    // (high corner, the outside factor of `shadow`), then the low and high corners of the box
+    // shadow rays stop at (`bounds_outside`); see `ray_span`.
     bounds_at: u32,
     // Where a union read as data starts in `data` (shaders/interpreter/instances.wgsl).
     instances_at: u32,

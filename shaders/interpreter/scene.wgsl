@@ -149,13 +149,14 @@ fn finish(c: vec3<f32>, t: f32) -> vec3<f32> {
     return c;
 }
 
-// How far p lies outside the scene's bounds (padded), per axis (0 inside), as the specialised
-// shader's `bounds_outside` computes it from its constants: an end whose bit is not set in
-// the mask (see `ray_span`) is open, and clamps to +-3e38 as there.
+// How far p lies outside the box shadow rays stop at (the scene's bounds, padded a little
+// more), per axis (0 inside), as the specialised shader's `bounds_outside` computes it from
+// its constants: an end whose bit is not set in the mask (see `ray_span`) is open, and clamps
+// to +-3e38 as there.
 fn bounds_outside(p: vec3<f32>) -> vec3<f32> {
-    let lo = data[frame.bounds_at];
-    let hi = data[frame.bounds_at + 1u];
-    let ends = vec3<u32>(u32(lo.w));
+    let ends = vec3<u32>(u32(data[frame.bounds_at].w));
+    let lo = data[frame.bounds_at + 2u];
+    let hi = data[frame.bounds_at + 3u];
     let a = select(vec3<f32>(-3e38), lo.xyz, (ends & vec3<u32>(1u, 2u, 4u)) != vec3<u32>(0u));
     let b = select(vec3<f32>(3e38), hi.xyz, (ends & vec3<u32>(8u, 16u, 32u)) != vec3<u32>(0u));
     return p - clamp(p, a, b);

@@ -105,23 +105,45 @@ fn bounds_outside_of(src: &str) -> Option<String> {
     Some(wgsl[start..end].to_string())
 }
 
+/// The numbers of `bounds_outside`'s `clamp(p, lo, hi)`: lo then hi, x y z each (an open
+/// end as +-3e38).
+fn shadow_box(f: &str) -> [f32; 6] {
+    let at = f.find("clamp(p, ").expect("a clamp") + "clamp(p, ".len();
+    let end = at + f[at..].find(");").expect("its end");
+    let mut v = Vec::new();
+    for part in f[at..end].split("vec3<f32>(").skip(1) {
+        let nums: Vec<f32> = part
+            .trim_end_matches([')', ',', ' '])
+            .split(", ")
+            .map(|x| x.trim_end_matches(')').parse().expect("a float"))
+            .collect();
+        v.extend(if nums.len() == 1 {
+            vec![nums[0]; 3]
+        } else {
+            nums
+        });
+    }
+    v.try_into().expect("six numbers")
+}
+
 #[test]
-fn shadow_rays_stop_at_the_same_bounds() {
+fn shadow_rays_stop_just_outside_ray_spans_box() {
+    // ray_span's padded ends (a_bounded_scene_gets_a_slab_per_axis), widened by 1e-5 of the
+    // largest coordinate (4.5): f32 rounding and the culled union's slack.
     let f = bounds_outside_of(
         "render { shadows: soft(8) }\nscene = sphere(1) | box([1, 2, 3]).translate([4, 0, 0]);\n",
     )
     .expect("emitted with shadows");
-    // ray_span's padded ends (a_bounded_scene_gets_a_slab_per_axis).
-    assert!(f.contains("clamp(p, vec3<f32>(-1.0055001, "), "{f}");
-    assert!(f.contains("vec3<f32>(4.5055003, "), "{f}");
+    let b = shadow_box(&f);
+    assert!(b[0] < -1.0055001 && b[0] > -1.0056, "{f}");
+    assert!(b[3] > 4.5055003 && b[3] < 4.5056, "{f}");
     // A floor: only the top is finite.
     let f =
         bounds_outside_of("render { shadows: hard }\nscene = sphere(0.5) | plane([0, 1, 0], 1);\n")
             .expect("emitted with hard shadows");
-    assert!(
-        f.contains("clamp(p, vec3<f32>(-3e38), vec3<f32>(3e38, 1.001, 3e38))"),
-        "{f}"
-    );
+    let b = shadow_box(&f);
+    assert_eq!([b[0], b[2], b[3], b[5]], [-3e38, -3e38, 3e38, 3e38], "{f}");
+    assert!(b[4] > 1.001 && b[4] < 1.0011, "{f}");
     // Unbounded: never left.
     let f = bounds_outside_of(
         "render { shadows: soft(8) }\nscene = sphere(1) | plane([0, 1, 1], 1);\n",
@@ -130,6 +152,38 @@ fn shadow_rays_stop_at_the_same_bounds() {
     assert!(f.contains("return vec3<f32>(0.0);"), "{f}");
     // No shadows, no test.
     assert!(bounds_outside_of("scene = sphere(1);\n").is_none());
+}
+
+/// A union read as data answers, beyond its hierarchy's root box, the distance to that box,
+/// which is padded by a thousandth of its size and 1e-3 (more than ray_span's box on a
+/// one-sided axis): the shadow rays' box takes it in.
+#[test]
+fn shadow_rays_stop_outside_a_data_unions_root_box() {
+    let mut union = String::from("union(");
+    for i in 0..40 {
+        let (x, z) = ((i % 8) as f32 * 0.9 - 3.2, (i / 8) as f32 * -0.9);
+        union += &format!("sphere(0.35).translate([{x}, 0.35, {z}]), ");
+    }
+    union += ")";
+    let src = format!("render {{ shadows: soft(8) }}\nscene = plane([0, 1, 0], 0) | {union};\n");
+    let opts = Options {
+        instances: sdfc_wgsl::Instances::Always,
+        ..Options::default()
+    };
+    let c = compile(&src, &opts).expect("compiles");
+    assert!(!c.data.is_empty(), "read as data");
+    let word = |i: usize| f32::from_le_bytes(c.data[4 * i..4 * i + 4].try_into().expect("4"));
+    // Node 0: centre (words 0..3), skip, half (words 4..7).
+    let top = word(1) + word(5);
+    let start = c.wgsl.find("fn bounds_outside(").expect("emitted");
+    let end = start + c.wgsl[start..].find("\n}\n").expect("its end");
+    let b = shadow_box(&c.wgsl[start..end]);
+    assert!(top > 0.701, "the root box's top {top} is above ray_span's");
+    assert!(
+        b[4] >= top,
+        "the shadow box's top {} is below the root box's {top}",
+        b[4]
+    );
 }
 
 /// `OUTSIDE_FACTOR` of a scene with soft shadows.

@@ -19,6 +19,8 @@ pub struct View<'a> {
     /// The scene's bounds (the analysis's box of the root, world coordinates; infinite on
     /// unbounded axes), from which `ray_span` starts and ends each march.
     pub bounds: ([f64; 3], [f64; 3]),
+    /// The box shadow rays stop at ([`shadow_slabs`]).
+    pub shadow: [Slab; 3],
     /// Whether the union is read as data (`shaders/instances_rays.wgsl`): each march lists
     /// the instances its ray passes and samples `march_distance`, and the normals sample
     /// `normal_distance` near the march's end (shadows and AO keep `scene_distance`).
@@ -423,15 +425,51 @@ fn ray_span(view: &View) -> String {
     s
 }
 
-/// `bounds_outside(p)`: how far p lies outside the box `ray_span` clips rays to, per axis
-/// (0 inside), which shadow rays read to stop where no surface can darken them any more
+/// The box shadow rays stop at (`bounds_outside`): `ray_span`'s ([`span_slabs`]), on the same
+/// finite ends, widened by what the fields shadow rays sample may answer beyond it. A union
+/// read as data answers the distance to its hierarchy's root box (`data_root`: centre and
+/// half-size in shader coordinates, as the data buffer has them, padded by a thousandth of
+/// the size and 1e-3 in `sdfc_ir::instances`), which may stick out of the scene's; the
+/// culled union's early-outs (`to_ssa/cull.rs`) the distance to boxes widened by 1e-5 of
+/// their coordinates; and f32 arithmetic far from the origin rounds by about 1e-7 of them.
+/// So every end also moves out by 1e-5 of the bounds' largest finite coordinate (at least
+/// 1).
+pub fn shadow_slabs(
+    bounds: ([f64; 3], [f64; 3]),
+    origin: [f32; 3],
+    data_root: Option<([f32; 3], [f32; 3])>,
+) -> [Slab; 3] {
+    let slabs = span_slabs(bounds, origin);
+    let far = bounds
+        .0
+        .iter()
+        .chain(&bounds.1)
+        .filter(|x| x.is_finite())
+        .fold(1.0f64, |m, x| m.max(x.abs()));
+    let e = 1e-5 * far;
+    std::array::from_fn(|k| {
+        let (mut lo, mut hi) = (slabs[k].lo.map(f64::from), slabs[k].hi.map(f64::from));
+        if let Some((c, h)) = data_root {
+            let (c, h) = (f64::from(c[k]), f64::from(h[k]).abs());
+            lo = lo.map(|v| v.min(c - h));
+            hi = hi.map(|v| v.max(c + h));
+        }
+        Slab {
+            lo: lo.map(|v| f32_down(v - e)).filter(|x| x.is_finite()),
+            hi: hi.map(|v| f32_up(v + e)).filter(|x| x.is_finite()),
+        }
+    })
+}
+
+/// `bounds_outside(p)`: how far p lies outside the box shadow rays stop at ([`shadow_slabs`]:
+/// `ray_span`'s, a little wider), per axis (0 inside), which shadow rays read to stop where no surface can darken them any more
 /// (`shaders/shading/shadow_hard.wgsl`, `shadow_soft.wgsl`); for soft shadows also
 /// `OUTSIDE_FACTOR` ([`View::outside`]), by which the scene's distance outside the box is at
 /// least the distance to it. An unbounded axis clamps to +-3e38 (no f32 point lies beyond).
 /// Where nothing can stop a shadow ray (a scene unbounded on every axis; soft shadows where
 /// the factor is unknown) the box is never left, and the driver folds the test away.
 fn bounds_outside(view: &View, hard: bool) -> String {
-    let slabs = span_slabs(view.bounds, view.origin);
+    let slabs = view.shadow;
     let factor = f32_down(view.outside.clamp(0.0, 1.0));
     let mut s = String::new();
     if !hard {
@@ -586,8 +624,8 @@ fn finish(scene: &Scene) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        analytic_surface_normal, end_leaf, normal_listed, sampled, View, NORMAL_CALL, RAY_SAMPLE,
-        TETRAHEDRON_HEAD, TETRAHEDRON_LOOP,
+        analytic_surface_normal, end_leaf, normal_listed, sampled, Slab, View, NORMAL_CALL,
+        RAY_SAMPLE, TETRAHEDRON_HEAD, TETRAHEDRON_LOOP,
     };
     use crate::parts;
     use sdfc_ir::scene::Normals;
@@ -598,6 +636,7 @@ mod tests {
             lights: &[],
             along_ray,
             bounds: ([0.0; 3], [0.0; 3]),
+            shadow: [Slab { lo: None, hi: None }; 3],
             ray_lists,
             trusted: true,
             outside: 1.0,

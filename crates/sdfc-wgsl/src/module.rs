@@ -227,11 +227,16 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
     if !lib {
         s += "\n";
         let bounds = marcher::root_bounds(p);
+        // The walk answers the distance to its root box beyond it (`shadow_slabs`).
+        let data_root = instances
+            .and_then(|plan| plan.found.nodes.first())
+            .map(|n| (n.centre.map(|x| x as f32), n.half.map(|x| x as f32)));
         let view = marcher::View {
             origin: frame.origin,
             lights: frame.lights,
             along_ray: distance_ray.is_some() && instances.is_none(),
             bounds,
+            shadow: marcher::shadow_slabs(bounds, frame.origin, data_root),
             ray_lists: instances.is_some(),
             trusted: p.analysis.distance_trusted(&p.scene),
             outside: p.analysis.outside_factor(&p.scene),

@@ -466,11 +466,15 @@ impl Analyser<'_> {
                     _ => 0.0,
                 };
                 if let (CombineOp::Union, Some(k)) = (op, smooth) {
-                    // The polynomial smooth min is at most k/4 below the min, and the box
-                    // grows by k/4 (for children with factor 1, the value still exceeds the
-                    // distance to the grown box).
+                    // The polynomial smooth min of two is at most k/4 below their min; the
+                    // children fold pairwise, each fold at most (k - e)^2 / 4k below the
+                    // lesser of its two when the running value is e below it already, so n
+                    // children drop by at most k min(1, (n - 1) / 4) (three by 0.39 k at
+                    // most, growing towards k). The box grows by that, and for children with
+                    // factor 1 the value still exceeds the distance to the grown box.
+                    let drop = 0.25 * (kids.len().max(2) - 1) as f64;
                     b = match self.scalar(*k) {
-                        Some(k) => b.grow(k * 0.25),
+                        Some(k) => b.grow(k.abs() * drop.min(1.0)),
                         None => Aabb::EVERYTHING,
                     };
                     if least < 1.0 || !self.scalar(*k).is_some_and(|k| k >= 0.0) {

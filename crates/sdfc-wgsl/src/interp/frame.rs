@@ -4,7 +4,7 @@
 //! constants, a union read as data).
 
 use super::encode::Bytecode;
-use crate::marcher::{camera_basis, root_bounds, span_slabs};
+use crate::marcher::{camera_basis, root_bounds, shadow_slabs, span_slabs};
 use sdfc_ir::rounding::f32_down;
 use sdfc_ir::scene::{Epsilon, LightKind, Normals, RenderSettings, Shadows};
 use sdfc_ir::types::Ty;
@@ -108,7 +108,7 @@ pub fn frame_data_with(
     }
     // The scene's slabs as the specialised shader's `ray_span` has them: low corner with the
     // mask of finite ends in w (bit k: axis k's low end, bit k + 3: its high end), high corner
-    // with the outside factor in w.
+    // with the outside factor in w; then the shadow rays' box (the same ends).
     let bounds_at = data.len() as u32;
     let slabs = span_slabs(root_bounds(program), origin);
     let mut lo = [0.0f32; 4];
@@ -135,6 +135,22 @@ pub fn frame_data_with(
     );
     data.push(lo);
     data.push(hi);
+    // The box shadow rays stop at (`shadow_slabs`: the same finite ends, a little wider, and
+    // around the hierarchy's root box where the union is read as data).
+    let data_root = match code.instances.as_slice() {
+        [c, h, ..] => Some((
+            [0, 1, 2].map(|k| f32::from_bits(c[k])),
+            [0, 1, 2].map(|k| f32::from_bits(h[k])),
+        )),
+        _ => None,
+    };
+    let shadow = shadow_slabs(root_bounds(program), origin, data_root);
+    let (a, b) = (
+        shadow.map(|s| s.lo.unwrap_or(0.0)),
+        shadow.map(|s| s.hi.unwrap_or(0.0)),
+    );
+    data.push([a[0], a[1], a[2], 0.0]);
+    data.push([b[0], b[1], b[2], 0.0]);
     let consts_at = data.len() as u32;
     data.extend_from_slice(&code.consts);
     // The shader reads constant 0 for every register operand too (and discards it): it

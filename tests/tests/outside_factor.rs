@@ -1,0 +1,97 @@
+//! The analysis's bounds and outside factor (`NodeInfo::outside`), checked with the f64
+//! evaluator: at random points outside a scene's box its distance is positive (no surface
+//! lies outside the box) and at least the factor times the distance to the box, which is
+//! what lets shadow rays stop once they have left the box for good (`bounds_outside`), and
+//! what `ray_span` and the tiles rely on to leave rays out.
+
+use sdfc_ir::eval::{eval_func, Inputs};
+use sdfc_ir::Program;
+use sdfc_tests::SplitMix;
+use sdfc_wgsl::{compile, Options};
+
+fn program(src: &str) -> Program {
+    match compile(src, &Options::default()) {
+        Ok(c) => c.program().clone(),
+        Err(e) => panic!("{src}: {e:?}"),
+    }
+}
+
+/// Samples points around the box (within `reach` of it; open sides clamped to it) and
+/// returns how many were outside it.
+fn check(scene: &str, reach: f64) -> usize {
+    let src = format!("scene = {scene};\n");
+    let p = program(&src);
+    let root = &p.analysis.nodes[p.scene.root.index()];
+    let (b, factor) = (root.bounds, root.outside);
+    let lo = b.lo.map(|x| if x.is_finite() { x - reach } else { -reach });
+    let hi = b.hi.map(|x| if x.is_finite() { x + reach } else { reach });
+    let mut r = SplitMix(0x0075_1de5);
+    let mut outside = 0;
+    for _ in 0..20_000 {
+        let x = [0, 1, 2].map(|i| lo[i] + r.unit() * (hi[i] - lo[i]));
+        let gap: f64 = (0..3)
+            .map(|i| (b.lo[i] - x[i]).max(x[i] - b.hi[i]).max(0.0).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if gap <= 0.0 {
+            continue;
+        }
+        outside += 1;
+        let d = eval_func(&p.distance, &p.groups, &Inputs::at(x))[0]
+            .scalar()
+            .expect("a number") as f64;
+        assert!(d > 0.0, "{scene}: a surface outside the box at {x:?} ({d})");
+        // The evaluator works in f32 values: a little slack for their rounding.
+        assert!(
+            d >= factor * gap - 1e-5 * (1.0 + gap),
+            "{scene}: at {x:?}, {gap} outside the box, the distance {d} is below {factor} times it"
+        );
+    }
+    assert!(outside > 1_000, "{scene}: only {outside} points outside");
+    outside
+}
+
+#[test]
+fn exact_shapes_and_what_keeps_their_factor() {
+    for scene in [
+        "box([1, 2, 3]) | sphere(1).translate([4, 0, 0]) | plane([0, 1, 0], -2)",
+        "box([1, 1, 1]).round(0.2).rotate_y(30deg).scale(2)",
+        "torus(1, 0.25).onion(0.05).rotate_x(40deg)",
+        "subtract(box([1, 1, 1]), sphere(1.2))",
+        "sphere(0.4).repeat([2, 0, 2]) | plane([0, 1, 0], -1)",
+        "sphere(0.4).translate([0.5, 0, 0]).repeat([2, 0, 0], count: [3, 1, 1])",
+        "box([1, 0.5, 0.5]).translate([0.7, 0, 0]).mirror_x()",
+        "torus(0.5, 0.1).elongate([1, 0, 0.5])",
+        "intersect(sphere(1), box([2, 2, 2]).translate([1, 1, 1]))",
+        "intersect(sphere(1), box([2, 2, 2]).translate([1, 1, 1]), box([1.6, 3, 3]))",
+    ] {
+        check(scene, 3.0);
+    }
+}
+
+#[test]
+fn bounds_with_a_factor_below_one() {
+    for scene in [
+        "ellipsoid([1, 0.5, 0.25]).rotate_z(20deg)",
+        "displace(sphere(1), |p| sin(30 * p.y) / 16)",
+        "heightfield(|x, z| 0.3 * sin(2 * x) * cos(1.5 * z), lipschitz: 0.6)",
+        "heightfield(|x, z| 1.5 * fbm([x, 0, z] * 0.35, octaves: 6), lipschitz: 1.7)",
+    ] {
+        check(scene, 3.0);
+    }
+}
+
+/// A smooth union folds its children pairwise, each blend up to k/4 below the lesser of
+/// its two: three children one on another drop by 0.39 k, and many by up to k. Its box
+/// must take that in (it grew by k/4 for any count, and three unit spheres blended with
+/// k = 1 reached 1.39 where the box ended at 1.25).
+#[test]
+fn smooth_unions_of_many_children() {
+    for scene in [
+        "union(sphere(1), sphere(1).translate([0.01, 0, 0]), sphere(1).translate([0, 0, 0.01]), smooth: 1)",
+        "union(sphere(1), sphere(1), sphere(1), sphere(1), sphere(1), sphere(1), smooth: 0.5)",
+        "union(box([1, 1, 1]), sphere(0.8).translate([0.5, 0, 0]), smooth: 0.3)",
+    ] {
+        check(scene, 3.0);
+    }
+}

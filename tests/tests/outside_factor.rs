@@ -91,6 +91,11 @@ fn smooth_unions_of_many_children() {
         "union(sphere(1), sphere(1).translate([0.01, 0, 0]), sphere(1).translate([0, 0, 0.01]), smooth: 1)",
         "union(sphere(1), sphere(1), sphere(1), sphere(1), sphere(1), sphere(1), smooth: 0.5)",
         "union(box([1, 1, 1]), sphere(0.8).translate([0.5, 0, 0]), smooth: 0.3)",
+        // Displaced children (factor 1 / 2.875): the box grows by k / 4 over that factor.
+        // Two alike blend k / 4 below either everywhere, so the bound is tight next to the
+        // box (with the box grown by k / 4 only, their surface lay 0.3 outside it).
+        "union(displace(sphere(1), |p| sin(30 * p.y) / 16, lipschitz: 2.875), box([1.4, 1.4, 1.4]).rotate_y(30deg), smooth: 0.3)",
+        "union(displace(sphere(1), |p| sin(30 * p.y) / 16, lipschitz: 2.875), displace(sphere(1), |p| sin(30 * p.y) / 16, lipschitz: 2.875).translate([0.001, 0, 0]), smooth: 0.8)",
     ] {
         check(scene, 3.0);
     }

@@ -462,8 +462,9 @@ pub fn shadow_slabs(
 }
 
 /// `bounds_outside(p)`: how far p lies outside the box shadow rays stop at ([`shadow_slabs`]:
-/// `ray_span`'s, a little wider), per axis (0 inside), which shadow rays read to stop where no surface can darken them any more
-/// (`shaders/shading/shadow_hard.wgsl`, `shadow_soft.wgsl`); for soft shadows also
+/// `ray_span`'s, a little wider), per axis (0 inside), which shadow rays read to stop where
+/// no surface can darken them any more (`shaders/shading/shadow_hard.wgsl`,
+/// `shadow_soft.wgsl`); for soft shadows also
 /// `OUTSIDE_FACTOR` ([`View::outside`]), by which the scene's distance outside the box is at
 /// least the distance to it. An unbounded axis clamps to +-3e38 (no f32 point lies beyond).
 /// Where nothing can stop a shadow ray (a scene unbounded on every axis; soft shadows where

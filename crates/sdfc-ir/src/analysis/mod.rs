@@ -84,8 +84,9 @@ pub struct NodeInfo {
     /// them (0: nothing is known). 1 for an exact distance (every surface lies in the box);
     /// `1 / L` for a heightfield or a displacement of an exact child divided by L; kept by
     /// hard unions (the least factor), moves, turns, scales, mirrors, repetitions, elongation
-    /// and materials; 1 through a `round`, an `onion` and a smooth union of children with 1
-    /// (their boxes grow by what the value drops). Shadow rays stop once their cone has left
+    /// and materials; 1 through a `round` and an `onion` of a child with 1; a smooth union
+    /// keeps its children's least (its box grows by what the blend takes off, over that
+    /// factor). Shadow rays stop once their cone has left
     /// the scene's box for good by it (`bounds_outside` in the emitted shader).
     pub outside: f64,
 }
@@ -469,15 +470,22 @@ impl Analyser<'_> {
                     // The polynomial smooth min of two is at most k/4 below their min; the
                     // children fold pairwise, each fold at most (k - e)^2 / 4k below the
                     // lesser of its two when the running value is e below it already, so n
-                    // children drop by at most k min(1, (n - 1) / 4) (three by 0.39 k at
-                    // most, growing towards k). The box grows by that, and for children with
-                    // factor 1 the value still exceeds the distance to the grown box.
+                    // children drop by at most D = k min(1, (n - 1) / 4) (three by 0.39 k
+                    // at most, growing towards k). Outside the hull H of the children's boxes
+                    // the value is at least c dist(H) - D (c their least factor), positive
+                    // beyond D / c: the surface lies within D / c of H, and the box grows by
+                    // that (D for exact children). There c dist(H) - D >= c dist(box), so
+                    // the factor stays c. Children of unknown factor (a warp's bound, a
+                    // fractal, an `sdf`) may blend below zero anywhere near the hull: no
+                    // box. (It grew by k/4 whatever the count and the children: three unit
+                    // spheres blended with k = 1 reached 1.39 where the box ended at 1.25,
+                    // and two displaced spheres, c = 1 / 2.875, reached 0.3 beyond theirs.)
                     let drop = 0.25 * (kids.len().max(2) - 1) as f64;
                     b = match self.scalar(*k) {
-                        Some(k) => b.grow(k.abs() * drop.min(1.0)),
-                        None => Aabb::EVERYTHING,
+                        Some(k) if least > 0.0 => b.grow(k.abs() * drop.min(1.0) / least),
+                        _ => Aabb::EVERYTHING,
                     };
-                    if least < 1.0 || !self.scalar(*k).is_some_and(|k| k >= 0.0) {
+                    if !self.scalar(*k).is_some_and(|k| k >= 0.0) {
                         outside = 0.0;
                     }
                 }

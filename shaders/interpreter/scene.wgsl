@@ -72,6 +72,8 @@ fn scene_normal(p: vec3<f32>, h: f32) -> vec3<f32> {
 // one call of the interpreter to inline instead of two.
 fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
     let hard = frame.shadows == 1u;
+    // The specialised shader's SHADOW_K * OUTSIDE_FACTOR (0: a soft shadow never stops).
+    let reach = SHADOW_K * data[frame.bounds_at + 1u].w;
     var light = 1.0;
     var t = 0.0;
     for (var i = 0u; i < MAX_STEPS; i = i + 1u) {
@@ -95,8 +97,6 @@ fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
                 return 0.0;
             }
             let out = length(v);
-            // The specialised shader's OUTSIDE_FACTOR (0: never stops).
-            let reach = SHADOW_K * data[frame.bounds_at + 1u].w;
             if reach * out > t && reach * dot(v, rd) >= out {
                 break;
             }

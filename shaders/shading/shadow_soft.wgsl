@@ -9,6 +9,7 @@
 // there could lower the light. A ray towards a light above a floor used to march on to
 // MAX_DISTANCE through empty sky (docs/performance.md, "Shadow rays stop at the bounds").
 fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
+    let reach = SHADOW_K * OUTSIDE_FACTOR;
     var light = 1.0;
     var t = 0.0;
     for (var i = 0u; i < MAX_STEPS; i = i + 1u) {
@@ -23,7 +24,6 @@ fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
         }
         let v = bounds_outside(q);
         let out = length(v);
-        let reach = SHADOW_K * OUTSIDE_FACTOR;
         if reach * out > t && reach * dot(v, rd) >= out {
             break;
         }

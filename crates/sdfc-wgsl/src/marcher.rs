@@ -354,6 +354,11 @@ pub struct Slab {
     pub hi: Option<f32>,
 }
 
+/// Whether no end of any axis is finite: the box bounds nothing.
+pub fn all_open(slabs: &[Slab; 3]) -> bool {
+    slabs.iter().all(|s| s.lo.is_none() && s.hi.is_none())
+}
+
 /// The slabs `ray_span` clips rays to: per axis, the ends of the scene's bounds that are
 /// finite, in shader coordinates (`origin` subtracted), each padded by a thousandth of the
 /// box's size over its axes bounded on both sides (and at least 1e-3) so that f32 rounding of
@@ -391,7 +396,7 @@ fn ray_span(view: &View) -> String {
          // there, and a ray that misses them takes no step.\n\
          fn ray_span(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {\n",
     );
-    if slabs.iter().all(|s| s.lo.is_none() && s.hi.is_none()) {
+    if all_open(&slabs) {
         s += "    return vec2<f32>(0.0, MAX_DISTANCE);\n}\n";
         return s;
     }
@@ -486,7 +491,7 @@ fn bounds_outside(view: &View, hard: bool) -> String {
         "// How far p lies outside the scene's bounds (padded), per axis (0 inside): shadow rays\n\
           // stop once they leave them for good.\n\
           fn bounds_outside(p: vec3<f32>) -> vec3<f32> {\n";
-    if slabs.iter().all(|s| s.lo.is_none() && s.hi.is_none()) || (!hard && factor == 0.0) {
+    if all_open(&slabs) || (!hard && factor == 0.0) {
         s += "    return vec3<f32>(0.0);\n}\n";
         return s;
     }

@@ -251,7 +251,7 @@ impl Analyser<'_> {
                 let (e, outside) = if prim.exact() {
                     (Exactness::Exact, 1.0)
                 } else {
-                    (Exactness::Bound, self.bound_prim_outside(*prim, &vals))
+                    (Exactness::Bound, Self::bound_prim_outside(*prim, &vals))
                 };
                 plain(e, bounds::prim(*prim, &vals), outside)
             }
@@ -527,7 +527,7 @@ impl Analyser<'_> {
     /// to its box [-r, r]: with w_k = max(|u_k| - 1, 0), that distance is at most max(r) |w|,
     /// and |u| >= |w| + 1 (|u|^2 >= |w|^2 + 2 |w|_1 + 1 outside the box). The fractals:
     /// nothing known.
-    fn bound_prim_outside(&self, prim: Prim, vals: &[Option<Value<f32>>]) -> f64 {
+    fn bound_prim_outside(prim: Prim, vals: &[Option<Value<f32>>]) -> f64 {
         match (prim, vals.first()) {
             (Prim::Ellipsoid, Some(Some(Value::V3(r)))) => {
                 let lo = r.iter().fold(f64::INFINITY, |a, &x| a.min(x as f64));

@@ -4,7 +4,7 @@
 //! constants, a union read as data).
 
 use super::encode::Bytecode;
-use crate::marcher::{camera_basis, root_bounds, shadow_slabs, span_slabs};
+use crate::marcher::{camera_basis, root_bounds, shadow_slabs, span_slabs, Slab};
 use sdfc_ir::rounding::f32_down;
 use sdfc_ir::scene::{Epsilon, LightKind, Normals, RenderSettings, Shadows};
 use sdfc_ir::types::Ty;
@@ -111,30 +111,17 @@ pub fn frame_data_with(
     // with the outside factor in w; then the shadow rays' box (the same ends).
     let bounds_at = data.len() as u32;
     let slabs = span_slabs(root_bounds(program), origin);
-    let mut lo = [0.0f32; 4];
-    let mut hi = [0.0f32; 4];
-    let mut mask = 0u32;
-    for (k, slab) in slabs.iter().enumerate() {
-        if let Some(a) = slab.lo {
-            lo[k] = a;
-            mask |= 1 << k;
-        }
-        if let Some(b) = slab.hi {
-            hi[k] = b;
-            mask |= 8 << k;
-        }
-    }
-    lo[3] = mask as f32;
+    let mask = slabs.iter().enumerate().fold(0u32, |m, (k, s)| {
+        m | u32::from(s.lo.is_some()) << k | u32::from(s.hi.is_some()) << (k + 3)
+    });
     // The factor by which the distance outside the box is at least the distance to it
     // (`OUTSIDE_FACTOR` of the specialised shader).
-    hi[3] = f32_down(
+    let factor = f32_down(
         program
             .analysis
             .outside_factor(&program.scene)
             .clamp(0.0, 1.0),
     );
-    data.push(lo);
-    data.push(hi);
     // The box shadow rays stop at (`shadow_slabs`: the same finite ends, a little wider, and
     // around the hierarchy's root box where the union is read as data).
     let data_root = match code.instances.as_slice() {
@@ -145,12 +132,10 @@ pub fn frame_data_with(
         _ => None,
     };
     let shadow = shadow_slabs(root_bounds(program), origin, data_root);
-    let (a, b) = (
-        shadow.map(|s| s.lo.unwrap_or(0.0)),
-        shadow.map(|s| s.hi.unwrap_or(0.0)),
-    );
-    data.push([a[0], a[1], a[2], 0.0]);
-    data.push([b[0], b[1], b[2], 0.0]);
+    data.push(corner(&slabs, |s| s.lo, mask as f32));
+    data.push(corner(&slabs, |s| s.hi, factor));
+    data.push(corner(&shadow, |s| s.lo, 0.0));
+    data.push(corner(&shadow, |s| s.hi, 0.0));
     let consts_at = data.len() as u32;
     data.extend_from_slice(&code.consts);
     // The shader reads constant 0 for every register operand too (and discards it): it
@@ -246,4 +231,11 @@ pub fn frame_data_with(
         data: data_bytes,
         code: code_bytes,
     }
+}
+
+/// One corner of a box as the interpreter's data holds it: each axis's `end` (0 where it is
+/// open: the mask says which are finite), and `w`.
+fn corner(slabs: &[Slab; 3], end: impl Fn(&Slab) -> Option<f32>, w: f32) -> [f32; 4] {
+    let v = slabs.map(|s| end(&s).unwrap_or(0.0));
+    [v[0], v[1], v[2], w]
 }

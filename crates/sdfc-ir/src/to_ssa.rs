@@ -63,7 +63,7 @@ pub fn template_functions(
         .iter()
         .enumerate()
         .map(|(k, (prim, tys))| {
-            let mut b = Builder::new(scene, &counts, &analysis.nodes, false, Groups::default());
+            let mut b = Builder::new(scene, &counts, analysis, false, Groups::default());
             b.cull = false;
             let p = b.point();
             let args: Vec<NodeId> = tys
@@ -90,7 +90,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
     let analysis = crate::analysis::analyse(scene, false);
     let info = &analysis.nodes[..];
     let mut groups = Groups::default();
-    let mut b = Builder::new(scene, &counts, info, false, groups);
+    let mut b = Builder::new(scene, &counts, &analysis, false, groups);
     b.cull = cull;
     let p = b.point();
     let (d, _) = b.shape(scene.root, p, 0);
@@ -101,7 +101,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
         results: vec![d],
     };
     groups = b.groups;
-    let mut b = Builder::new(scene, &counts, info, true, groups);
+    let mut b = Builder::new(scene, &counts, &analysis, true, groups);
     b.cull = cull;
     let p = b.point();
     let (_, m) = b.shape(scene.root, p, 0);
@@ -116,7 +116,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
     let along = info.iter().any(|i| i.partials.is_some());
     let mut distance_ray = None;
     if along {
-        let mut b = Builder::new(scene, &counts, info, false, groups);
+        let mut b = Builder::new(scene, &counts, &analysis, false, groups);
         b.cull = cull;
         let p = b.point();
         let rd = b.g.op(Op::Ray, &[]);
@@ -164,6 +164,8 @@ struct Builder<'s> {
     /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes and the bounds
     /// that culled unions test.
     info: &'s [NodeInfo],
+    /// The whole analysis (`info` is its nodes): the shapes' symmetries, for repetitions.
+    analysis: &'s crate::analysis::Analysis,
     /// Whether large unions get bounding-box early-outs (`cull.rs`).
     cull: bool,
     /// Whether the union about to be built is a culled part's body, called only where its
@@ -196,7 +198,7 @@ impl<'s> Builder<'s> {
     fn new(
         scene: &'s Scene,
         counts: &'s [u64],
-        info: &'s [NodeInfo],
+        analysis: &'s crate::analysis::Analysis,
         materials: bool,
         groups: Groups,
     ) -> Builder<'s> {
@@ -204,7 +206,8 @@ impl<'s> Builder<'s> {
             scene,
             counts,
             body_of: None,
-            info,
+            info: &analysis.nodes,
+            analysis,
             cull: true,
             culled_body: false,
             g: Graph::new(),
@@ -248,7 +251,7 @@ impl<'s> Builder<'s> {
                 let mut sub = Builder::new(
                     self.scene,
                     self.counts,
-                    self.info,
+                    self.analysis,
                     true,
                     std::mem::take(&mut self.groups),
                 );
@@ -865,6 +868,7 @@ impl<'s> Builder<'s> {
         if matches!(map, PointMap::Mirror(_) | PointMap::Elongate(_)) {
             self.dir_signs = true;
         }
+        let mut cells: Option<Cells> = None;
         let q = match map {
             PointMap::Affine { m, o, s } => {
                 let mut q = p;
@@ -935,6 +939,12 @@ impl<'s> Builder<'s> {
                 let cd = self.g.vec3(period.map(|x| if x == 0.0 { 1.0 } else { x }));
                 let r = self.op(Op::Div, &[p, cd]);
                 let r = self.g.builtin(Builtin::Round, &[r]);
+                cells = Some(Cells {
+                    point: p,
+                    period: c,
+                    index: r,
+                    limits: None,
+                });
                 let off = self.op(Op::Mul, &[c, r]);
                 self.op(Op::Sub, &[p, off])
             }
@@ -953,6 +963,12 @@ impl<'s> Builder<'s> {
                 let r = self.g.builtin(Builtin::Round, &[r]);
                 let r = self.op(Op::Add, &[r, ov]);
                 let idx = self.g.builtin(Builtin::Clamp, &[r, lo, hi]);
+                cells = Some(Cells {
+                    point: p,
+                    period: c,
+                    index: idx,
+                    limits: Some((lo, hi)),
+                });
                 let off = self.op(Op::Mul, &[c, idx]);
                 self.op(Op::Sub, &[p, off])
             }
@@ -964,12 +980,98 @@ impl<'s> Builder<'s> {
             }
         };
         let q = self.hinted(q, "q");
-        let (d, m) = self.shape(child, q, mat);
+        let (mut d, mut m) = self.shape(child, q, mat);
+        if let Some(cells) = cells {
+            (d, m) = self.neighbours(map, child, q, cells, (d, m), mat);
+        }
         (self.dir, self.dir_signs) = (dir, dir_signs);
         if let PointMap::Affine { s: Some(s), .. } = map {
             let s = self.import(*s, None);
             let d = self.op(Op::Mul, &[d, s]);
             return (self.hinted(d, "d"), m);
+        }
+        (d, m)
+    }
+}
+
+/// A repetition's cells, for the neighbours' copies: the point, the period, the point's cell
+/// index and, for a limited repetition, the first and last index.
+struct Cells {
+    point: NodeId,
+    period: NodeId,
+    index: NodeId,
+    limits: Option<(NodeId, NodeId)>,
+}
+
+impl Builder<'_> {
+    /// A repetition's distance where its copy is not symmetric about every repeated axis:
+    /// the nearest copy to a point of a cell is that cell's, or the neighbour on the point's
+    /// side along such an axis (along a symmetric one, mirroring a neighbour's copy across
+    /// the cells' wall onto the point's side gives the cell's own, nearer), so the union takes
+    /// those 2^k copies for k such axes; past a limited repetition's last copy the clamp
+    /// keeps it. Only where the copy fits its cell (else the analysis calls the node
+    /// neither). One copy in the cell alone overestimated: a row of tilted bars seen along it
+    /// lost 53 of 407 pixels at 160x120 to rays that stepped through a neighbour's bar.
+    fn neighbours(
+        &mut self,
+        map: &PointMap,
+        child: ShapeId,
+        q: NodeId,
+        cells: Cells,
+        (mut d, mut m): (NodeId, Option<Mat>),
+        mat: u32,
+    ) -> (NodeId, Option<Mat>) {
+        let (period, count) = match map {
+            PointMap::Repeat { period } => (*period, [2; 3]),
+            PointMap::RepeatLimited { period, count } => (*period, *count),
+            _ => return (d, m),
+        };
+        let b = self.info[child.index()].bounds;
+        let sym = self.analysis.mirror[child.index()];
+        let axes: Vec<usize> = (0..3)
+            .filter(|&i| {
+                let half = period[i] as f64 / 2.0;
+                period[i] != 0.0 && count[i] > 1 && !sym[i] && b.lo[i] >= -half && b.hi[i] <= half
+            })
+            .collect();
+        if axes.is_empty() {
+            return (d, m);
+        }
+        let Cells {
+            point: p,
+            period: c,
+            index: idx,
+            limits,
+        } = cells;
+        let side = self.g.builtin(Builtin::Sign, &[q]);
+        for subset in 1..1u32 << axes.len() {
+            let mut mask = [0.0f32; 3];
+            for (bit, &i) in axes.iter().enumerate() {
+                if subset & (1 << bit) != 0 {
+                    mask[i] = 1.0;
+                }
+            }
+            let mask = self.g.vec3(mask);
+            let step = self.op(Op::Mul, &[side, mask]);
+            let qn = match limits {
+                None => {
+                    let off = self.op(Op::Mul, &[c, step]);
+                    self.op(Op::Sub, &[q, off])
+                }
+                Some((lo, hi)) => {
+                    let next = self.op(Op::Add, &[idx, step]);
+                    let next = self.g.builtin(Builtin::Clamp, &[next, lo, hi]);
+                    let off = self.op(Op::Mul, &[c, next]);
+                    self.op(Op::Sub, &[p, off])
+                }
+            };
+            let qn = self.hinted(qn, "q");
+            let (e, me) = self.shape(child, qn, mat);
+            if let (Some(ma), Some(mb)) = (m, me) {
+                m = Some(self.blend(CombineOp::Union, d, e, ma, mb, None));
+            }
+            let nd = self.g.builtin(Builtin::Min, &[d, e]);
+            d = self.hinted(nd, "d");
         }
         (d, m)
     }

@@ -62,7 +62,7 @@ pub fn explain(scene: &Scene, analysis: &Analysis, source: &str) -> String {
     if root.exactness == Exactness::Neither {
         let _ = writeln!(
             out,
-            "  a repeated shape that does not fit its cell, centred, may hide a nearer copy"
+            "  a repeated shape that does not fit its cell may hide a nearer copy"
         );
     }
     let mut lines: Vec<(u32, String)> = Vec::new();

@@ -10,6 +10,7 @@ pub mod bounds;
 mod explain;
 pub mod gradient;
 pub mod sample;
+pub mod symmetry;
 
 use crate::graph::NodeId;
 use crate::hash::FxHashMap;
@@ -95,6 +96,8 @@ pub struct NodeInfo {
 #[derive(Clone, Debug, Default)]
 pub struct Analysis {
     pub nodes: Vec<NodeInfo>,
+    /// The axes each shape is mirror-symmetric about (`symmetry::mirror_axes`).
+    pub mirror: Vec<[bool; 3]>,
     /// Errors (a twist of an unbounded shape with no declared bound, a displacement whose
     /// slope nothing bounds) and warnings (declared bounds contradicted by sampling).
     pub diagnostics: Vec<Diagnostic>,
@@ -151,6 +154,7 @@ pub fn analyse(scene: &Scene, check: bool) -> Analysis {
         let info = a.node(i);
         a.out.nodes.push(info);
     }
+    a.out.mirror = symmetry::mirror_axes(scene);
     a.out
 }
 
@@ -614,12 +618,14 @@ impl Analyser<'_> {
                 let mut fits = true;
                 for i in 0..3 {
                     let p = period[i] as f64;
-                    if p == 0.0 {
+                    // One copy along an axis has no neighbour there.
+                    if p == 0.0 || count.is_some_and(|n| n[i] <= 1) {
                         continue;
                     }
-                    // A copy that stays in its cell, centred, never hides a nearer neighbour
-                    // (for shapes symmetric about the cell's centre planes; not checked).
-                    fits &= b.lo[i] >= -p / 2.0 && b.hi[i] <= p / 2.0 && b.lo[i] == -b.hi[i];
+                    // A copy that stays in its cell: the nearest copy to a point is its own
+                    // cell's or, along an axis the copy is not symmetric about, the
+                    // neighbour on the point's side, which `to_ssa` evaluates too.
+                    fits &= b.lo[i] >= -p / 2.0 && b.hi[i] <= p / 2.0;
                     match count {
                         Some(n) => {
                             let e = p * (n[i] as f64 - 1.0) / 2.0;

@@ -119,6 +119,12 @@ fn fractals_and_what_rounds_or_displaces_a_bound() {
         "ellipsoid([1, 0.2, 0.2]).round(0.1)",
         "displace(ellipsoid([1, 0.2, 0.2]), |p| sin(20 * p.x) / 10, lipschitz: 3)",
         "displace(sierpinski(iterations: 2), |p| sin(20 * p.y) / 16, lipschitz: 2.25)",
+        // Smooth intersections and subtractions keep the plain ones' factors, and xor its
+        // children's least, so what rounds them keeps a box (it had none for a moment).
+        "subtract(box([1, 1, 1]), sphere(0.6), smooth: 0.1).round(0.05)",
+        "intersect(sphere(1), box([1.5, 1.5, 1.5]).rotate_y(20deg), smooth: 0.2).onion(0.05)",
+        "xor(box([1, 1, 1]), sphere(0.7)).round(0.1)",
+        "displace(subtract(box([1, 1, 1]), sphere(0.6), smooth: 0.1), |p| sin(9 * p.x) / 20)",
     ] {
         check(scene, 3.0);
     }

@@ -57,7 +57,7 @@ fn check(scene: &str, seed: u64) -> Result<bool, TestCaseError> {
 }
 
 #[test]
-fn exact_and_bound_distances_are_1_lipschitz() {
+fn exact_distances_are_1_lipschitz() {
     let config = Config {
         cases: 256,
         rng_seed: RngSeed::Fixed(0x11b5),

@@ -226,12 +226,13 @@ fn the_outside_factor_follows_the_distance() {
         ),
         // An ellipsoid's bound: min(r) / max(r).
         ("ellipsoid([1, 0.5, 0.25])", 0.25),
-        // Unknown: a twist's bound, a smooth intersection, an `sdf`.
-        ("box([0.5, 1, 0.5]).twist(1) | plane([0, 1, 0], 0)", 0.0),
+        // A smooth intersection is never below the plain one: the same factor.
         (
             "intersect(sphere(1), box([0.8, 0.8, 0.8]), smooth: 0.2)",
-            0.0,
+            1.0,
         ),
+        // Unknown: a twist's bound, an `sdf`.
+        ("box([0.5, 1, 0.5]).twist(1) | plane([0, 1, 0], 0)", 0.0),
         ("sdf(|p| length(p) - 1)", 0.0),
     ];
     for (scene, want) in cases {

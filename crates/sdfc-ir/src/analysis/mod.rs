@@ -83,12 +83,14 @@ pub struct NodeInfo {
     pub partials: Option<[f64; 3]>,
     /// Outside its bounds the node's field is at least this factor times the distance to
     /// them (0: nothing is known). 1 for an exact distance (every surface lies in the box);
-    /// `1 / L` for a heightfield or a displacement of an exact child divided by L; kept by
-    /// hard unions (the least factor), moves, turns, scales, mirrors, repetitions, elongation
-    /// and materials; 1 through a `round` and an `onion` of a child with 1; a smooth union
-    /// keeps its children's least (its box grows by what the blend takes off, over that
-    /// factor). Shadow rays stop once their cone has left
-    /// the scene's box for good by it (`bounds_outside` in the emitted shader).
+    /// `1 / L` for a heightfield, `c / L` for a displacement of a child with factor c divided
+    /// by L; the least of the children's for unions and `xor`; the first child's for a
+    /// subtraction and, for an intersection, that of a child whose box is the node's (or the
+    /// least over sqrt(n)), smooth or not; kept by moves, turns, scales, mirrors,
+    /// repetitions, elongation, materials, `round` and `onion` (whose box grows by their
+    /// reach over it); a smooth union's box grows by what the blend takes off, over the
+    /// factor. Shadow rays stop once their cone has left the scene's box for good by it
+    /// (`bounds_outside` in the emitted shader).
     pub outside: f64,
 }
 
@@ -446,15 +448,23 @@ impl Analyser<'_> {
                 }
                 .unwrap_or(Aabb::EVERYTHING);
                 let least = kids.iter().map(|k| k.outside).fold(1.0, f64::min);
-                let mut outside = match (op, smooth) {
+                // A smooth max with k >= 0 is never below the plain max, so smooth
+                // intersections and subtractions keep the plain ones' factors.
+                let at_least_max = match smooth {
+                    None => true,
+                    Some(k) => self.scalar(*k).is_some_and(|k| k >= 0.0),
+                };
+                let mut outside = match (op, at_least_max) {
                     (CombineOp::Union, _) => least,
+                    // Outside the hull both children are positive, and xor is their min.
+                    (CombineOp::Xor, _) => least,
                     // The max is at least the first child's, whose box is the node's.
-                    (CombineOp::Subtract, None) => kids.first().map_or(0.0, |k| k.outside),
+                    (CombineOp::Subtract, true) => kids.first().map_or(0.0, |k| k.outside),
                     // At least each child's: by any child whose box is the node's, and by
                     // all n together, since per axis the distance to the boxes' intersection
                     // is the largest of the distances to each, so its square is at most the
                     // sum of theirs, n times the largest (an empty intersection: nothing).
-                    (CombineOp::Intersect, None) => {
+                    (CombineOp::Intersect, true) => {
                         let n = kids.len().max(1) as f64;
                         let all = if b.lo.iter().zip(&b.hi).all(|(l, h)| l <= h) {
                             least / n.sqrt()

@@ -136,3 +136,32 @@ fn shape_of(leaves: BoxedStrategy<String>) -> impl Strategy<Value = String> {
         ]
     })
 }
+
+/// Runs `check` on `cases` values of `strategy` drawn from the fixed `seed`, failing the
+/// test with proptest's smallest failing case; returns how many cases `check` took (returned
+/// true for), so that a property test can ask that enough of its random scenes were of the
+/// kind it checks.
+pub fn run_counted<S: Strategy>(
+    cases: u32,
+    seed: u64,
+    strategy: S,
+    check: impl Fn(S::Value) -> Result<bool, TestCaseError>,
+) -> usize {
+    let config = proptest::test_runner::Config {
+        cases,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(seed),
+        failure_persistence: None,
+        ..proptest::test_runner::Config::default()
+    };
+    let taken = std::cell::Cell::new(0usize);
+    let result = proptest::test_runner::TestRunner::new(config).run(&strategy, |value| {
+        if check(value)? {
+            taken.set(taken.get() + 1);
+        }
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    taken.get()
+}

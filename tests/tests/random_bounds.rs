@@ -6,12 +6,11 @@
 //! each construct; this one checks what the constructs do to each other, nested.
 
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
+use proptest::test_runner::TestCaseError;
 use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_tests::random_scene::shape;
+use sdfc_tests::random_scene::{run_counted, shape};
 use sdfc_tests::SplitMix;
 use sdfc_wgsl::{compile, Options};
-use std::cell::Cell;
 
 /// How far around the box points are sampled, and how many.
 const REACH: f64 = 3.0;
@@ -66,27 +65,12 @@ fn check(scene: &str, seed: u64) -> Result<bool, TestCaseError> {
 
 #[test]
 fn no_surface_outside_the_box_and_the_factor_holds() {
-    let config = Config {
-        cases: 256,
-        rng_seed: RngSeed::Fixed(0xb0c5),
-        failure_persistence: None,
-        ..Config::default()
-    };
-    let mut runner = TestRunner::new(config);
-    let bounded = Cell::new(0usize);
-    let result = runner.run(&(shape(), any::<u64>()), |(scene, seed)| {
-        if check(&scene, seed)? {
-            bounded.set(bounded.get() + 1);
-        }
-        Ok(())
+    let bounded = run_counted(256, 0xb0c5, (shape(), any::<u64>()), |(scene, seed)| {
+        check(&scene, seed)
     });
-    if let Err(e) = result {
-        panic!("{e}");
-    }
     // Planes, repetitions and `sdf` leave many scenes unbounded: enough must not be.
     assert!(
-        bounded.get() >= 64,
-        "only {} of 256 scenes had a finite box",
-        bounded.get()
+        bounded >= 64,
+        "only {bounded} of 256 scenes had a finite box"
     );
 }

@@ -5,13 +5,13 @@
 //! repetition's nearest copies of one, may jump where the copy it measures changes, and stays
 //! below the distance; `lipschitz.rs` checks the bound-only operations' divisors.)
 
-use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
+use proptest::prelude::any;
+use proptest::test_runner::TestCaseError;
 use sdfc_ir::analysis::Exactness;
 use sdfc_ir::eval::{eval_func, Inputs};
-use sdfc_tests::random_scene::shape_without_mandelbulb;
+use sdfc_tests::random_scene::{run_counted, shape_without_mandelbulb};
 use sdfc_tests::SplitMix;
 use sdfc_wgsl::{compile, Options};
-use std::cell::Cell;
 
 const PAIRS: usize = 1_000;
 
@@ -58,30 +58,11 @@ fn check(scene: &str, seed: u64) -> Result<bool, TestCaseError> {
 
 #[test]
 fn exact_distances_are_1_lipschitz() {
-    let config = Config {
-        cases: 256,
-        rng_seed: RngSeed::Fixed(0x11b5),
-        failure_persistence: None,
-        ..Config::default()
-    };
-    let mut runner = TestRunner::new(config);
-    let checked = Cell::new(0usize);
-    let result = runner.run(
-        &(shape_without_mandelbulb(), proptest::prelude::any::<u64>()),
-        |(scene, seed)| {
-            if check(&scene, seed)? {
-                checked.set(checked.get() + 1);
-            }
-            Ok(())
-        },
+    let exact = run_counted(
+        256,
+        0x11b5,
+        (shape_without_mandelbulb(), any::<u64>()),
+        |(scene, seed)| check(&scene, seed),
     );
-    if let Err(e) = result {
-        panic!("{e}");
-    }
-    eprintln!("checked {}", checked.get());
-    assert!(
-        checked.get() >= 64,
-        "only {} of 256 scenes were exact",
-        checked.get()
-    );
+    assert!(exact >= 64, "only {exact} of 256 scenes were exact");
 }

@@ -6,14 +6,14 @@
 //! repeated axis (a turned bar, a moved sphere, a cone): there the neighbour on the point's
 //! side is nearer, and `to_ssa` evaluates it too.
 
-use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
+use proptest::prelude::any;
+use proptest::test_runner::TestCaseError;
 use sdfc_ir::analysis::Exactness;
 use sdfc_ir::eval::{eval_func, Inputs};
 use sdfc_ir::Program;
-use sdfc_tests::random_scene::shape_without_mandelbulb;
+use sdfc_tests::random_scene::{run_counted, shape_without_mandelbulb};
 use sdfc_tests::SplitMix;
 use sdfc_wgsl::{compile, Options};
-use std::cell::Cell;
 
 fn program(src: &str) -> Result<Program, TestCaseError> {
     compile(src, &Options::default())
@@ -88,31 +88,15 @@ fn check(shape: &str, seed: u64) -> Result<bool, TestCaseError> {
 
 #[test]
 fn a_repetition_is_the_union_of_its_copies() {
-    let config = Config {
-        cases: 128,
-        rng_seed: RngSeed::Fixed(0x4e16),
-        failure_persistence: None,
-        ..Config::default()
-    };
-    let mut runner = TestRunner::new(config);
-    let checked = Cell::new(0usize);
-    let result = runner.run(
-        &(shape_without_mandelbulb(), proptest::prelude::any::<u64>()),
-        |(shape, seed)| {
-            if check(&shape, seed)? {
-                checked.set(checked.get() + 1);
-            }
-            Ok(())
-        },
+    let checked = run_counted(
+        128,
+        0x4e16,
+        (shape_without_mandelbulb(), any::<u64>()),
+        |(shape, seed)| check(&shape, seed),
     );
-    if let Err(e) = result {
-        panic!("{e}");
-    }
-    eprintln!("checked {}", checked.get());
     assert!(
-        checked.get() >= 24,
-        "only {} of 128 shapes were exact and bounded",
-        checked.get()
+        checked >= 24,
+        "only {checked} of 128 shapes were exact and bounded"
     );
 }
 

@@ -11,10 +11,10 @@ mod common;
 
 use common::against_reference::{render_against_reference, Compared};
 use common::renderer;
-use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
+use proptest::test_runner::TestCaseError;
 use sdfc_ir::analysis::Exactness;
 use sdfc_reference::metrics;
-use sdfc_tests::random_scene::shape_without_mandelbulb;
+use sdfc_tests::random_scene::{run_counted, shape_without_mandelbulb};
 
 const W: u32 = 48;
 const H: u32 = 36;
@@ -77,14 +77,7 @@ fn check(r: &sdfc_render::Renderer, scene: &str) -> Result<(), TestCaseError> {
 #[test]
 fn random_scenes_draw_what_the_reference_draws() {
     let Some(r) = renderer() else { return };
-    let config = Config {
-        cases: 48,
-        rng_seed: RngSeed::Fixed(0x0de5),
-        failure_persistence: None,
-        ..Config::default()
-    };
-    let mut runner = TestRunner::new(config);
-    if let Err(e) = runner.run(&shape_without_mandelbulb(), |scene| check(r, &scene)) {
-        panic!("{e}");
-    }
+    run_counted(48, 0x0de5, shape_without_mandelbulb(), |scene| {
+        check(r, &scene).map(|()| true)
+    });
 }

@@ -157,6 +157,25 @@ pub enum PointMap {
     Elongate(NodeId),
 }
 
+impl PointMap {
+    /// Half a repetition's period along each axis where its copies have neighbours: 0 where
+    /// the axis is not repeated or holds one copy (and for the other maps).
+    pub fn half_periods(&self) -> [f64; 3] {
+        let (period, count) = match self {
+            PointMap::Repeat { period } => (period, None),
+            PointMap::RepeatLimited { period, count } => (period, Some(count)),
+            _ => return [0.0; 3],
+        };
+        [0, 1, 2].map(|i| {
+            if count.is_some_and(|n| n[i] <= 1) {
+                0.0
+            } else {
+                period[i] as f64 / 2.0
+            }
+        })
+    }
+}
+
 /// A declared `lipschitz: L` argument: its value node and where it was written.
 pub type Declared = Option<(NodeId, Span)>;
 

@@ -2,7 +2,6 @@
 //! `scene_material(p)`: point maps become arithmetic on `p`, primitives become helper calls,
 //! combinations become `min`/`max` (and, for materials, selects and blends).
 
-use crate::analysis::NodeInfo;
 use crate::func::{Func, FuncKind};
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
@@ -161,10 +160,8 @@ struct Builder<'s> {
     counts: &'s [u64],
     /// The shape whose group function this builder is building: inlined, not outlined again.
     body_of: Option<ShapeId>,
-    /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes and the bounds
-    /// that culled unions test.
-    info: &'s [NodeInfo],
-    /// The whole analysis (`info` is its nodes): the shapes' symmetries, for repetitions.
+    /// The exactness/Lipschitz analysis, for the divisors of bound-only nodes, the bounds
+    /// that culled unions test and the shapes' symmetries, for repetitions.
     analysis: &'s crate::analysis::Analysis,
     /// Whether large unions get bounding-box early-outs (`cull.rs`).
     cull: bool,
@@ -206,7 +203,6 @@ impl<'s> Builder<'s> {
             scene,
             counts,
             body_of: None,
-            info: &analysis.nodes,
             analysis,
             cull: true,
             culled_body: false,
@@ -439,7 +435,7 @@ impl<'s> Builder<'s> {
                 // |f|; base is 1-Lipschitz, so base - M is a lower bound on the distance to
                 // it that needs no divisor. Far from the shape it takes the full steps the
                 // divided field would not.
-                let reach = self.info[s.index()]
+                let reach = self.analysis.nodes[s.index()]
                     .reach
                     .filter(|_| !self.values_matter && self.divides(l));
                 let d = match reach {
@@ -500,7 +496,7 @@ impl<'s> Builder<'s> {
                 let d = self.op(Op::Div, &[d, l]);
                 // Above the highest point of the terrain, the height over it is a lower bound
                 // on the distance that needs no divisor.
-                let top = self.info[s.index()]
+                let top = self.analysis.nodes[s.index()]
                     .reach
                     .filter(|_| !self.values_matter && self.divides(l));
                 let d = match top {
@@ -545,7 +541,7 @@ impl<'s> Builder<'s> {
     /// rate at most 1); `|u.y| + v.x |u.x| + v.z |u.z|` for `p.y - h(p.x, p.z)`, at least
     /// 1/8 so that a ray along a level terrain still steps by a finite amount.
     fn along_ray(&mut self, s: ShapeId, l: NodeId, heightfield: bool) -> NodeId {
-        let (Some(u), Some(v)) = (self.dir, self.info[s.index()].partials) else {
+        let (Some(u), Some(v)) = (self.dir, self.analysis.nodes[s.index()].partials) else {
             return l;
         };
         let v = if heightfield { [v[0], 1.0, v[2]] } else { v };
@@ -944,6 +940,7 @@ impl<'s> Builder<'s> {
                     period: c,
                     index: r,
                     limits: None,
+                    halves: map.half_periods(),
                 });
                 let off = self.op(Op::Mul, &[c, r]);
                 self.op(Op::Sub, &[p, off])
@@ -968,6 +965,7 @@ impl<'s> Builder<'s> {
                     period: c,
                     index: idx,
                     limits: Some((lo, hi)),
+                    halves: map.half_periods(),
                 });
                 let off = self.op(Op::Mul, &[c, idx]);
                 self.op(Op::Sub, &[p, off])
@@ -982,7 +980,7 @@ impl<'s> Builder<'s> {
         let q = self.hinted(q, "q");
         let (mut d, mut m) = self.shape(child, q, mat);
         if let Some(cells) = cells {
-            (d, m) = self.neighbours(map, child, q, cells, (d, m), mat);
+            (d, m) = self.neighbours(child, q, cells, (d, m), mat);
         }
         (self.dir, self.dir_signs) = (dir, dir_signs);
         if let PointMap::Affine { s: Some(s), .. } = map {
@@ -995,12 +993,14 @@ impl<'s> Builder<'s> {
 }
 
 /// A repetition's cells, for the neighbours' copies: the point, the period, the point's cell
-/// index and, for a limited repetition, the first and last index.
+/// index, for a limited repetition the first and last index, and the half periods of the
+/// axes with neighbours (`PointMap::half_periods`).
 struct Cells {
     point: NodeId,
     period: NodeId,
     index: NodeId,
     limits: Option<(NodeId, NodeId)>,
+    halves: [f64; 3],
 }
 
 impl Builder<'_> {
@@ -1014,25 +1014,17 @@ impl Builder<'_> {
     /// lost 53 of 407 pixels at 160x120 to rays that stepped through a neighbour's bar.
     fn neighbours(
         &mut self,
-        map: &PointMap,
         child: ShapeId,
         q: NodeId,
         cells: Cells,
         (mut d, mut m): (NodeId, Option<Mat>),
         mat: u32,
     ) -> (NodeId, Option<Mat>) {
-        let (period, count) = match map {
-            PointMap::Repeat { period } => (*period, [2; 3]),
-            PointMap::RepeatLimited { period, count } => (*period, *count),
-            _ => return (d, m),
-        };
-        let b = self.info[child.index()].bounds;
+        let b = self.analysis.nodes[child.index()].bounds;
         let sym = self.analysis.mirror[child.index()];
+        let halves = cells.halves;
         let axes: Vec<usize> = (0..3)
-            .filter(|&i| {
-                let half = period[i] as f64 / 2.0;
-                period[i] != 0.0 && count[i] > 1 && !sym[i] && b.lo[i] >= -half && b.hi[i] <= half
-            })
+            .filter(|&i| halves[i] != 0.0 && !sym[i] && b.within_cell(i, halves[i]))
             .collect();
         if axes.is_empty() {
             return (d, m);
@@ -1042,6 +1034,7 @@ impl Builder<'_> {
             period: c,
             index: idx,
             limits,
+            ..
         } = cells;
         let side = self.g.builtin(Builtin::Sign, &[q]);
         for subset in 1..1u32 << axes.len() {

@@ -94,6 +94,27 @@ pub fn is_silhouette(reference: &Image, x: u32, y: u32) -> bool {
     })
 }
 
+/// True where the hits of the reference's 3x3 neighbourhood of (x, y) lie more than `rel`
+/// (relative to the farthest) apart: a depth edge, a shape in front of another, or a crease
+/// or fin seen edge on.
+pub fn is_depth_edge(reference: &Image, x: u32, y: u32, rel: f64) -> bool {
+    let (mut near, mut far) = (f64::INFINITY, 0.0f64);
+    for dy in -1i64..=1 {
+        for dx in -1i64..=1 {
+            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+            if nx < 0 || ny < 0 || nx >= reference.width as i64 || ny >= reference.height as i64 {
+                continue;
+            }
+            let p = reference.pixel(nx as u32, ny as u32);
+            if p.hit {
+                near = near.min(p.depth);
+                far = far.max(p.depth);
+            }
+        }
+    }
+    far - near > rel * far
+}
+
 fn angle_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
     let la = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     let lb = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();

@@ -205,17 +205,12 @@ fn silhouette(reference: &sdfc_reference::Image, i: usize) -> bool {
 /// Whether a pixel (by index) lies on a depth edge of the reference, where a shape stands in
 /// front of another: the hits of its 3x3 neighbourhood are more than [`OTHER_SURFACE`] apart.
 fn depth_edge(reference: &sdfc_reference::Image, i: usize) -> bool {
-    let (x, y) = ((i as u32 % W) as i64, (i as u32 / W) as i64);
-    let depths: Vec<f64> = (-1..=1)
-        .flat_map(|dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
-        .filter(|&(nx, ny)| nx >= 0 && ny >= 0 && nx < W as i64 && ny < H as i64)
-        .map(|(nx, ny)| reference.pixel(nx as u32, ny as u32))
-        .filter(|p| p.hit)
-        .map(|p| p.depth)
-        .collect();
-    let near = depths.iter().copied().fold(f64::INFINITY, f64::min);
-    let far = depths.iter().copied().fold(0.0, f64::max);
-    far - near > OTHER_SURFACE as f64 * far
+    sdfc_reference::metrics::is_depth_edge(
+        reference,
+        i as u32 % W,
+        i as u32 / W,
+        OTHER_SURFACE as f64,
+    )
 }
 
 fn mean_colour_difference(a: &Frame, b: &Frame) -> f64 {

@@ -25,20 +25,7 @@ const H: u32 = 36;
 /// surface grazed in front of another, which the pixel's threshold may take or pass either
 /// way.
 fn edge(reference: &sdfc_reference::Image, x: u32, y: u32) -> bool {
-    if metrics::is_silhouette(reference, x, y) {
-        return true;
-    }
-    let me = reference.pixel(x, y);
-    (-1i64..=1).any(|dy| {
-        (-1i64..=1).any(|dx| {
-            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-            if nx < 0 || ny < 0 || nx >= W as i64 || ny >= H as i64 {
-                return false;
-            }
-            let other = reference.pixel(nx as u32, ny as u32);
-            me.hit && other.hit && (me.depth - other.depth).abs() > 0.01 * me.depth.abs()
-        })
-    })
+    metrics::is_silhouette(reference, x, y) || metrics::is_depth_edge(reference, x, y, 0.01)
 }
 
 fn check(r: &sdfc_render::Renderer, scene: &str) -> Result<(), TestCaseError> {

@@ -35,6 +35,11 @@ impl Aabb {
         }
     }
 
+    /// Whether the box lies within the cell `[-half, half]` along `axis`.
+    pub fn within_cell(&self, axis: usize, half: f64) -> bool {
+        self.lo[axis] >= -half && self.hi[axis] <= half
+    }
+
     pub fn hull(&self, o: &Aabb) -> Aabb {
         Aabb {
             lo: [0, 1, 2].map(|i| self.lo[i].min(o.lo[i])),

@@ -516,10 +516,8 @@ impl Analyser<'_> {
                     DistMod::Round(r) | DistMod::Onion(r) => self.scalar(*r),
                 };
                 // The surface lies where the child's field is r (an onion's also at -r,
-                // inside the child's box). A negative r shrinks the box: within |r| of its
-                // faces every point is within |r| of the surface, so above -r.
+                // inside the child's box).
                 let b = match r {
-                    Some(r) if r < 0.0 => c.bounds.grow(r),
                     Some(r) => grow_below(&c, r),
                     None => Aabb::EVERYTHING,
                 };
@@ -626,16 +624,17 @@ impl Analyser<'_> {
                 };
                 let mut b = c.bounds;
                 let mut fits = true;
+                let halves = map.half_periods();
                 for i in 0..3 {
-                    let p = period[i] as f64;
                     // One copy along an axis has no neighbour there.
-                    if p == 0.0 || count.is_some_and(|n| n[i] <= 1) {
+                    if halves[i] == 0.0 {
                         continue;
                     }
                     // A copy that stays in its cell: the nearest copy to a point is its own
                     // cell's or, along an axis the copy is not symmetric about, the
                     // neighbour on the point's side, which `to_ssa` evaluates too.
-                    fits &= b.lo[i] >= -p / 2.0 && b.hi[i] <= p / 2.0;
+                    fits &= c.bounds.within_cell(i, halves[i]);
+                    let p = period[i] as f64;
                     match count {
                         Some(n) => {
                             let e = p * (n[i] as f64 - 1.0) / 2.0;
@@ -863,14 +862,16 @@ fn round_up(x: f64) -> f64 {
     }
 }
 
-/// The box of the points where a child's field is at most `g` (>= 0): its own box grown by
-/// g over its outside factor c (beyond that the field is at least c times the distance, above
-/// g), and no box where c is 0 and g is not (a fractal's or a warp's field may stay below g
-/// anywhere). Growing by g alone, as `round`, `onion` and `displace` did, held for exact
-/// children only: a rounded Sierpinski tetrahedron (c = 1/3) reached 0.02 outside its box.
+/// The box of the points where a child's field is at most `g`: for g > 0 its own box grown
+/// by g over its outside factor c (beyond that the field is at least c times the distance,
+/// above g), and no box where c is 0 (a fractal's or a warp's field may stay below g
+/// anywhere); for g <= 0 its box shrunk by |g| (within |g| of its faces every point is within
+/// |g| of the surface, so above g). Growing by g alone, as `round`, `onion` and `displace`
+/// did, held for exact children only: a rounded Sierpinski tetrahedron (c = 1/3) reached 0.02
+/// outside its box.
 fn grow_below(c: &NodeInfo, g: f64) -> Aabb {
-    if g == 0.0 {
-        c.bounds
+    if g <= 0.0 {
+        c.bounds.grow(g)
     } else if c.outside > 0.0 && g.is_finite() {
         c.bounds.grow(g / c.outside)
     } else {

@@ -104,16 +104,18 @@ fn affine_axes(
         },
     };
     [0, 1, 2].map(|k| {
-        let col = cols[k];
-        // A turn by 90 degrees leaves f32 rounding (cos = -4.4e-8) where 0 is meant: that
-        // little asymmetry moves the distance by as little.
-        let zero = |x: f32| x.abs() <= 1e-6;
-        let nonzero: Vec<usize> = (0..3).filter(|&r| !zero(col[r])).collect();
-        let [j] = nonzero[..] else {
+        // Column k has one entry, in row j, and row j none but in column k.
+        let mut rows = (0..3).filter(|&r| !zero(cols[k][r]));
+        let (Some(j), None) = (rows.next(), rows.next()) else {
             return false;
         };
-        // Row j of m must be zero but for column k.
         let row_alone = (0..3).all(|c| c == k || zero(cols[c][j]));
         row_alone && offset[j] == 0.0 && child[j]
     })
+}
+
+/// A matrix entry meant as 0: a turn by 90 degrees leaves f32 rounding there (cos =
+/// -4.4e-8), and that little asymmetry moves the distance by as little.
+fn zero(x: f32) -> bool {
+    x.abs() <= 1e-6
 }

@@ -60,7 +60,7 @@ impl Builder<'_> {
             let mut b = Vec::new();
             let mut f = Vec::new();
             for &c in children {
-                match self.info.get(c.index()).map(|i| i.bounds) {
+                match self.analysis.nodes.get(c.index()).map(|i| i.bounds) {
                     Some(bx) if bx.is_bounded() => b.push((c, bx)),
                     _ => f.push(c),
                 }

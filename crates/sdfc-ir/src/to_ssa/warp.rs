@@ -20,7 +20,7 @@ impl Builder<'_> {
         if let Some((n, _)) = declared {
             return self.import(n, None);
         }
-        let l = self.info[s.index()].lipschitz.unwrap_or(1.0);
+        let l = self.analysis.nodes[s.index()].lipschitz.unwrap_or(1.0);
         // Heightfields divide p.y - h by sqrt(1 + L^2), which the analysis already reports.
         self.f(f32_up(l.max(1.0)))
     }
@@ -70,7 +70,7 @@ impl Builder<'_> {
                 let q = self.op(Op::MakeVec, &[qx, qy, z]);
                 let q = self.hinted(q, "q");
                 let (d, m) = self.shape(child, q, mat);
-                let l = match (declared, self.info[s.index()].lipschitz) {
+                let l = match (declared, self.analysis.nodes[s.index()].lipschitz) {
                     (None, Some(l)) => self.f(f32_up(l)),
                     (Some(_), _) => self.divisor(s, declared),
                     (None, None) => {
@@ -110,7 +110,7 @@ impl Builder<'_> {
                 // the segment from p to the nearest surface point r stays below max(r(p), R),
                 // R bounding the child, so dividing by L(max(r(p), R)) is safe everywhere and
                 // constant (L(R)) inside the bounds.
-                let bounds = &self.info[child.index()].bounds;
+                let bounds = &self.analysis.nodes[child.index()].bounds;
                 let radius = bounds.radius_about(if twist { 1 } else { 2 });
                 let radius = if radius.is_finite() { radius } else { 0.0 };
                 let pr = self.swz(p, plane);

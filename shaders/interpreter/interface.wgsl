@@ -48,6 +48,8 @@ struct Frame {
     bounds_at: u32,
     // Where a union read as data starts in `data` (shaders/interpreter/instances.wgsl).
     instances_at: u32,
+    // The size of the scene's smallest shape (the specialised shader's FEATURE_SIZE).
+    feature_size: f32,
 }
 
 @group(0) @binding(0) var<storage, read> frame: Frame;

@@ -1,5 +1,6 @@
 //! Shared helpers for the golden and end-to-end tests: where the corpus lives.
 
+pub mod random_instances;
 pub mod random_scene;
 
 use std::path::PathBuf;

@@ -19,7 +19,7 @@ pub fn primitive() -> impl Strategy<Value = String> {
     prop_oneof![
         num(0.1, 2.0).prop_map(|r| format!("sphere({r})")),
         vec3(0.1, 2.0).prop_map(|s| format!("box({s})")),
-        (0.4f64..2.0, 0.0f64..1.0)
+        (0.4f64..2.0, 0.0f64..0.99)
             .prop_map(|(s, f)| format!("round_box({s:.3}, {:.3})", s * 0.5 * f)),
         (num(0.5, 2.0), num(0.05, 0.4)).prop_map(|(a, b)| format!("torus({a}, {b})")),
         (num(0.1, 1.0), num(0.1, 2.0)).prop_map(|(a, b)| format!("cylinder({a}, {b})")),
@@ -37,7 +37,7 @@ pub fn primitive() -> impl Strategy<Value = String> {
 /// The primitives of the shape library beyond the first seven.
 pub fn more_primitives() -> impl Strategy<Value = String> {
     prop_oneof![
-        (0.4f64..2.0, 0.0f64..1.0)
+        (0.4f64..2.0, 0.0f64..0.99)
             .prop_map(|(s, f)| format!("box_frame({s:.3}, {:.3})", s * 0.5 * f)),
         (num(0.5, 2.0), num(0.05, 0.4), num(0.0, 180.0))
             .prop_map(|(a, b, t)| format!("capped_torus({a}, {b}, {t}deg)")),
@@ -164,4 +164,21 @@ pub fn run_counted<S: Strategy>(
         panic!("{e}");
     }
     taken.get()
+}
+
+/// How many cases a random test runs: `default`, or `SDFC_RANDOM_CASES` where set (to run
+/// thousands once, by hand, as the docs' figures were).
+pub fn cases(default: u32) -> u32 {
+    std::env::var("SDFC_RANDOM_CASES")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(default)
+}
+
+/// The seed of a random test: `default`, or `SDFC_RANDOM_SEED` where set.
+pub fn seed(default: u64) -> u64 {
+    std::env::var("SDFC_RANDOM_SEED")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(default)
 }

@@ -115,7 +115,8 @@ pub fn is_depth_edge(reference: &Image, x: u32, y: u32, rel: f64) -> bool {
     far - near > rel * far
 }
 
-fn angle_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
+/// The angle between two vectors, degrees (180 where either is zero or NaN).
+pub fn angle_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
     let la = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     let lb = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
     if !(la > 0.0 && lb > 0.0) {

@@ -348,3 +348,21 @@ fn analytic_normals_through_noise_and_every_primitive() {
         );
     }
 }
+
+/// The camera 0.05 from a unit sphere, at the origin and 1e5 out (the camera-relative
+/// frame's origin): the points near the camera are small, the sphere's numbers are not, and
+/// the difference normals' step follows the shapes' size (`FEATURE_SIZE`). Median 0.42
+/// degree in both before it.
+#[test]
+fn close_ups_keep_their_normals_within_the_bar() {
+    for name in ["close_up", "close_up_1e5"] {
+        let Some(m) = measure(name) else { return };
+        assert_finite(name, &m);
+        assert_eq!(m.mismatch_interior, 0, "{name}: interior mismatches");
+        assert!(
+            m.normal_median_deg <= 0.1,
+            "{name}: normal median {} degrees",
+            m.normal_median_deg
+        );
+    }
+}

@@ -36,6 +36,9 @@ pub struct View<'a> {
     /// Whether the march's distance is dear (a union read as data, or `dear::is_dear`): the
     /// march (plain or relaxed) then refines in its stepping loop (`shaders/march_merged.wgsl`).
     pub dear: bool,
+    /// The size of the scene's smallest shape (`Analysis::feature_size`), below which
+    /// the difference normals' step does not go (`FEATURE_SIZE`).
+    pub feature: f64,
 }
 
 /// How the march's and the hit refinement's parts sample the ray; a test checks that each
@@ -70,7 +73,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
 
 pub fn emit(scene: &Scene, view: &View) -> String {
     let mut s = String::new();
-    s += &constants(scene, view.origin);
+    s += &constants(scene, view.origin, view.feature);
     s += "\n";
     s += parts::HIT;
     s += "\n";
@@ -286,7 +289,7 @@ pub(crate) fn camera_basis(scene: &Scene) -> ([f32; 3], [f32; 3], [f32; 3], f32)
     )
 }
 
-fn constants(scene: &Scene, origin: [f32; 3]) -> String {
+fn constants(scene: &Scene, origin: [f32; 3], feature: f64) -> String {
     let r = &scene.render;
     let (forward, right, up, tan_half) = camera_basis(scene);
     let mut s = String::from("// Camera (spec section 8) and render settings (spec section 7).\n");
@@ -311,6 +314,12 @@ fn constants(scene: &Scene, origin: [f32; 3]) -> String {
     let _ = writeln!(s, "const TAN_HALF_FOV: f32 = {};", float(tan_half));
     let _ = writeln!(s, "const MAX_STEPS: u32 = {}u;", r.max_steps);
     let _ = writeln!(s, "const MAX_DISTANCE: f32 = {};", float(r.max_distance));
+    let _ = writeln!(
+        s,
+        "// The size of the scene's smallest shape: the difference normals' step is at \
+         least 2e-5 of it.\nconst FEATURE_SIZE: f32 = {};",
+        float(f32_down(feature))
+    );
     if r.relaxation > 1.0 {
         let _ = writeln!(s, "const RELAXATION: f32 = {};", float(r.relaxation));
     }
@@ -647,6 +656,7 @@ mod tests {
             trusted: true,
             outside: 1.0,
             dear: ray_lists,
+            feature: 0.0,
         }
     }
 

@@ -100,6 +100,18 @@ pub struct Analysis {
     pub nodes: Vec<NodeInfo>,
     /// The axes each shape is mirror-symmetric about (`symmetry::mirror_axes`).
     pub mirror: Vec<[bool; 3]>,
+    /// The size of the smallest shape, in the scene's units: the least, over the shapes
+    /// the root reaches with a finite box, of the box's largest half-extent times the
+    /// scales above it (the least over the paths to it; 0 where no shape has a box). The
+    /// distance function's numbers near a surface are about that large or larger, so the
+    /// difference normals' step need not go below 2e-5 of it (`normal_step` in
+    /// `shaders/main.wgsl`, `FEATURE_SIZE`). A point near the frame's origin (the camera, in
+    /// camera-relative coordinates) is no measure of that: seen from 0.05 away, a unit
+    /// sphere's distance rounds to 6e-8 while 2e-5 of the point's size is 1e-6, and its
+    /// normals were off by 0.4 degree (docs/accuracy.md, "Normals near the camera"). The
+    /// smallest shape keeps its small step (a step near a shape's size tilts its normal:
+    /// moving the point by half a step did on a sphere of radius 1e-3).
+    pub feature: f64,
     /// Errors (a twist of an unbounded shape with no declared bound, a displacement whose
     /// slope nothing bounds) and warnings (declared bounds contradicted by sampling).
     pub diagnostics: Vec<Diagnostic>,
@@ -132,6 +144,13 @@ impl Analysis {
     }
 }
 
+impl Analysis {
+    /// The size of the smallest shape ([`Analysis::feature`]).
+    pub fn feature_size(&self) -> f64 {
+        self.feature
+    }
+}
+
 /// How far the sampling check reaches on unbounded axes.
 pub const DEFAULT_REGION: f64 = 4.0;
 
@@ -157,6 +176,7 @@ pub fn analyse(scene: &Scene, check: bool) -> Analysis {
         a.out.nodes.push(info);
     }
     a.out.mirror = symmetry::mirror_axes(scene);
+    a.out.feature = a.feature();
     a.out
 }
 
@@ -218,6 +238,50 @@ pub fn bend_lipschitz(kr: f64) -> f64 {
 }
 
 impl Analyser<'_> {
+    /// [`Analysis::feature`], from the boxes found: the scales are carried down from the
+    /// root (children come before their parents in `scene.shapes`).
+    fn feature(&mut self) -> f64 {
+        let n = self.scene.shapes.len();
+        let mut scale = vec![f64::INFINITY; n];
+        if let Some(s) = scale.get_mut(self.scene.root.index()) {
+            *s = 1.0;
+        }
+        for i in (0..n).rev() {
+            if !scale[i].is_finite() {
+                continue;
+            }
+            let kind = &self.scene.shapes[i].kind;
+            let own = match kind {
+                ShapeKind::Map {
+                    map: PointMap::Affine { s: Some(s), .. },
+                    ..
+                } => self.scalar(*s).map_or(0.0, f64::abs),
+                _ => 1.0,
+            };
+            let below = scale[i] * own;
+            for c in crate::lower::expansion::children(kind) {
+                let c = c.index();
+                scale[c] = scale[c].min(below);
+            }
+        }
+        let least = self
+            .out
+            .nodes
+            .iter()
+            .zip(&scale)
+            .map(|(info, s)| {
+                let b = &info.bounds;
+                s * (0..3).fold(0.0f64, |m, k| m.max(0.5 * (b.hi[k] - b.lo[k])))
+            })
+            .filter(|h| h.is_finite())
+            .fold(f64::INFINITY, f64::min);
+        if least.is_finite() {
+            least.clamp(0.0, 1e30)
+        } else {
+            0.0
+        }
+    }
+
     fn konst(&mut self, n: NodeId) -> Option<Value<f32>> {
         const_value(&self.scene.values, n, &mut self.memo)
     }

@@ -49,3 +49,96 @@ pub fn render_against_reference(
         metrics,
     }
 }
+
+/// Whether the reference's 3x3 neighbourhood of (x, y) holds a silhouette (hits and misses)
+/// or a depth edge (hits more than 1% apart): a thin fin or a crease seen edge on, or a
+/// surface grazed in front of another, which the pixel's threshold may take or pass either
+/// way. A pixel on the image's border counts as one: its neighbourhood is cut, and a
+/// silhouette beyond the border cannot be seen (a random field of Sierpinski dust gave a
+/// false hit there whose neighbours inside the image all missed).
+pub fn is_edge(reference: &sdfc_reference::Image, x: u32, y: u32) -> bool {
+    x == 0
+        || y == 0
+        || x + 1 == reference.width
+        || y + 1 == reference.height
+        || metrics::is_silhouette(reference, x, y)
+        || metrics::is_depth_edge(reference, x, y, 0.01)
+}
+
+/// The pixels whose hit or miss in `depth` (a device frame's depth AOV) differs
+/// from the reference's away from edges ([`is_edge`]), as (x, y, the reference's hit).
+pub fn off_the_reference(
+    reference: &sdfc_reference::Image,
+    depth: &[f32],
+) -> Vec<(u32, u32, bool)> {
+    let (w, h) = (reference.width, reference.height);
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            depth[(y * w + x) as usize].is_finite() != reference.pixel(x, y).hit
+                && !is_edge(reference, x, y)
+        })
+        .map(|(x, y)| (x, y, reference.pixel(x, y).hit))
+        .collect()
+}
+
+/// The median angle, in degrees, between `normal` (a device frame's normal AOV) and the
+/// reference's normals over the pixels both hit away from edges ([`is_edge`]) and creases
+/// (a hit of the reference's 3x3 neighbourhood whose normal is more than a degree from the
+/// pixel's): where the surface is smooth across the pixel, so that the normal is defined
+/// whatever the method's step. `None` where no pixel is such.
+pub fn smooth_normal_median(
+    reference: &sdfc_reference::Image,
+    depth: &[f32],
+    normal: &[[f32; 3]],
+) -> Option<f64> {
+    let (w, h) = (reference.width, reference.height);
+    let crease = |x: u32, y: u32| {
+        let n = reference.pixel(x, y).normal;
+        (y.saturating_sub(1)..(y + 2).min(h))
+            .flat_map(|j| (x.saturating_sub(1)..(x + 2).min(w)).map(move |i| (i, j)))
+            .any(|(i, j)| {
+                let r = reference.pixel(i, j);
+                r.hit && metrics::angle_deg(r.normal, n) > 1.0
+            })
+    };
+    let mut errors: Vec<f64> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let i = (y * w + x) as usize;
+            reference.pixel(x, y).hit
+                && depth[i].is_finite()
+                && !is_edge(reference, x, y)
+                && !crease(x, y)
+        })
+        .map(|(x, y)| {
+            let n = normal[(y * w + x) as usize].map(f64::from);
+            metrics::angle_deg(n, reference.pixel(x, y).normal)
+        })
+        .collect();
+    if errors.is_empty() {
+        return None;
+    }
+    errors.sort_by(f64::total_cmp);
+    Some(errors[errors.len() / 2])
+}
+
+/// The 99.9th percentile of the relative depth error of `depth` (a device frame's depth AOV)
+/// against the reference over the pixels both hit away from edges ([`is_edge`]), where the
+/// pixel's surface is one surface; `None` where no pixel is such.
+pub fn interior_depth_p999(reference: &sdfc_reference::Image, depth: &[f32]) -> Option<f64> {
+    let w = reference.width;
+    let mut errors: Vec<f64> = (0..reference.height)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter_map(|(x, y)| {
+            let (d, r) = (depth[(y * w + x) as usize], reference.pixel(x, y));
+            (r.hit && d.is_finite() && !is_edge(reference, x, y))
+                .then(|| (f64::from(d) - r.depth).abs() / r.depth.max(1e-30))
+        })
+        .collect();
+    if errors.is_empty() {
+        return None;
+    }
+    errors.sort_by(f64::total_cmp);
+    Some(metrics::percentile(&errors, 0.999))
+}

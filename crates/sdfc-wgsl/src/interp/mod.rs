@@ -70,6 +70,7 @@ pub const RUNTIME_SETTINGS: &[(&str, &str)] = &[
     ("AO_STRENGTH", "frame.ao_strength"),
     ("AO_FALLOFF", "frame.ao_falloff"),
     ("REFLECTIONS", "frame.reflections"),
+    ("FEATURE_SIZE", "frame.feature_size"),
 ];
 
 /// A shared part with each settings constant (a whole identifier) replaced by its field.

@@ -5,6 +5,7 @@
 
 mod common;
 
+use common::against_reference::parted;
 use common::{compile, compile_with, renderer};
 use sdfc_reference::metrics::{self, GpuFrame, Metrics};
 use sdfc_render::{Frame, RenderOptions, Renderer};
@@ -194,25 +195,7 @@ fn check_against(
         data_frame.aovs.as_ref().unwrap(),
         code_frame.aovs.as_ref().unwrap(),
     );
-    let error = |depth: f32, r: &sdfc_reference::Pixel| match (depth.is_finite(), r.hit) {
-        (true, true) => (f64::from(depth) - r.depth).abs() / r.depth,
-        (false, false) => 0.0,
-        _ => f64::INFINITY,
-    };
-    let (mut parted, mut worse) = (0, 0);
-    for ((&a, &b), r) in da.depth.iter().zip(&ca.depth).zip(&reference.pixels) {
-        let apart = if a.is_finite() && b.is_finite() {
-            (a - b).abs() > 1e-4 * b.abs()
-        } else {
-            a.is_finite() != b.is_finite()
-        };
-        if apart {
-            parted += 1;
-            if error(a, r) > error(b, r) {
-                worse += 1;
-            }
-        }
-    }
+    let (parted, worse) = parted(&da.depth, &ca.depth, reference);
     eprintln!(
         "{name}: {parted} pixels part from the code's, {worse} of them farther from the reference"
     );

@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::against_reference::{off_the_reference, render_against_reference, Compared};
+use common::against_reference::{off_the_reference, parted, render_against_reference, Compared};
 use common::renderer;
 use proptest::test_runner::TestCaseError;
 use sdfc_render::{RenderOptions, Renderer};
@@ -55,29 +55,6 @@ fn against(
         )));
     }
     Ok(())
-}
-
-/// The pixels where `data`'s and `code`'s depths part (hit against miss, or more than 1e-4
-/// apart), and how many of them `data` has farther from the reference.
-fn parted(data: &[f32], code: &[f32], reference: &sdfc_reference::Image) -> (usize, usize) {
-    let error = |depth: f32, r: &sdfc_reference::Pixel| match (depth.is_finite(), r.hit) {
-        (true, true) => (f64::from(depth) - r.depth).abs() / r.depth,
-        (false, false) => 0.0,
-        _ => f64::INFINITY,
-    };
-    let (mut apart, mut worse) = (0, 0);
-    for ((&a, &b), r) in data.iter().zip(code).zip(&reference.pixels) {
-        let parts = if a.is_finite() && b.is_finite() {
-            (a - b).abs() > 1e-4 * b.abs()
-        } else {
-            a.is_finite() != b.is_finite()
-        };
-        if parts {
-            apart += 1;
-            worse += usize::from(error(a, r) > error(b, r));
-        }
-    }
-    (apart, worse)
 }
 
 fn check(r: &Renderer, src: &str) -> Result<bool, TestCaseError> {

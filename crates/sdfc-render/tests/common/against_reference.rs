@@ -142,3 +142,26 @@ pub fn interior_depth_p999(reference: &sdfc_reference::Image, depth: &[f32]) -> 
     errors.sort_by(f64::total_cmp);
     Some(metrics::percentile(&errors, 0.999))
 }
+
+/// How many pixels two frames' depths part at (hit against miss, or more than 1e-4 apart),
+/// and at how many of them `data`'s is farther from the reference than `code`'s.
+pub fn parted(data: &[f32], code: &[f32], reference: &sdfc_reference::Image) -> (usize, usize) {
+    let error = |depth: f32, r: &sdfc_reference::Pixel| match (depth.is_finite(), r.hit) {
+        (true, true) => (f64::from(depth) - r.depth).abs() / r.depth,
+        (false, false) => 0.0,
+        _ => f64::INFINITY,
+    };
+    let (mut apart, mut worse) = (0, 0);
+    for ((&a, &b), r) in data.iter().zip(code).zip(&reference.pixels) {
+        let parts = if a.is_finite() && b.is_finite() {
+            (a - b).abs() > 1e-4 * b.abs()
+        } else {
+            a.is_finite() != b.is_finite()
+        };
+        if parts {
+            apart += 1;
+            worse += usize::from(error(a, r) > error(b, r));
+        }
+    }
+    (apart, worse)
+}

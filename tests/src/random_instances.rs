@@ -1,5 +1,5 @@
 //! A proptest generator of random unions that the data form takes (`sdfc_ir::instances`):
-//! from 16 to 40 bounded primitives with constant arguments, each under random moves, turns
+//! from 16 to 39 bounded primitives with constant arguments, each under random moves, turns
 //! about any axis, uniform scales and colours, spread in front of the spec's default
 //! camera; sometimes with other children beside them (a floor, a smooth blend, a fractal),
 //! which make the union mixed. Shared by the device test of the data form against the f64

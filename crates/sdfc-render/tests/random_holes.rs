@@ -86,16 +86,12 @@ fn check(r: &sdfc_render::Renderer, scene: &str, far: f64) -> Result<(), TestCas
     }
     // Normals are held to the product's bar (median over smooth pixels), but where the
     // camera is inside the solid (every ray hits at t = 0, where the difference normal's step
-    // is the least there is), and 1e5 out where a shape has no box (a lambda's `sdf`): there
-    // the step's floor, the smallest shape's size (`FEATURE_SIZE`), does not know its size,
-    // and a point near the camera is small beside its numbers (docs/accuracy.md, "Normals
-    // near the camera").
+    // is the least there is), and 1e5 out where the scene's smallest size is not known
+    // (`Analysis::feature` 0: a lambda's `sdf`, a warp): the step's floor is then the
+    // point's size, small near the camera beside the shapes' numbers (docs/accuracy.md,
+    // "Normals near the camera").
     let inside = reference.pixels.iter().any(|p| p.hit && p.depth == 0.0);
-    let boxless = p.scene.shapes.iter().zip(&p.analysis.nodes).any(|(s, n)| {
-        sdfc_ir::lower::expansion::children(&s.kind).is_empty()
-            && !(0..3).all(|k| (n.bounds.hi[k] - n.bounds.lo[k]).is_finite())
-    });
-    let skip_normals = inside || (far != 0.0 && boxless);
+    let skip_normals = inside || (far != 0.0 && p.analysis.feature == 0.0);
     let normal_median = smooth_normal_median(&reference, &aovs.depth, &aovs.normal);
     let normals_off = !skip_normals && normal_median.is_some_and(|n| n > NORMAL_MEDIAN_DEG);
     let depth_p999 = interior_depth_p999(&reference, &aovs.depth);

@@ -1,4 +1,4 @@
-//! Property: random unions emitted as data (`sdfc_tests::random_instances`: 16 to 40
+//! Property: random unions emitted as data (`sdfc_tests::random_instances`: 16 to 39
 //! primitives of every kind an instance may be, turned about any axis, scaled, coloured,
 //! sometimes beside a floor, a smooth blend or a fractal) draw on the device what the f64
 //! reference draws, away from edges, as `random_holes.rs` asks of any scene: the data form's

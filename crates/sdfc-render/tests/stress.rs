@@ -358,6 +358,7 @@ fn close_ups_keep_their_normals_within_the_bar() {
     for name in ["close_up", "close_up_1e5"] {
         let Some(m) = measure(name) else { return };
         assert_finite(name, &m);
+        assert_eq!(m.both_hit, m.pixels, "{name}: the sphere fills the view");
         assert_eq!(m.mismatch_interior, 0, "{name}: interior mismatches");
         assert!(
             m.normal_median_deg <= 0.1,

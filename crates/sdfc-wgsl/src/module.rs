@@ -240,7 +240,7 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             ray_lists: instances.is_some(),
             trusted: p.analysis.distance_trusted(&p.scene),
             outside: p.analysis.outside_factor(&p.scene),
-            feature: p.analysis.feature_size(),
+            feature: p.analysis.feature,
             dear: instances.is_some()
                 || crate::dear::is_dear(distance_ray.unwrap_or(distance), groups),
         };

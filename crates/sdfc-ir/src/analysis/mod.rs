@@ -100,17 +100,19 @@ pub struct Analysis {
     pub nodes: Vec<NodeInfo>,
     /// The axes each shape is mirror-symmetric about (`symmetry::mirror_axes`).
     pub mirror: Vec<[bool; 3]>,
-    /// The size of the smallest shape, in the scene's units: the least, over the shapes
-    /// the root reaches with a finite box, of the box's largest half-extent times the
-    /// scales above it (the least over the paths to it; 0 where no shape has a box). The
+    /// The size of the smallest shape, in the scene's units: the least, over the shapes the
+    /// root reaches, of their box's largest half-extent (at most [`THIN_RATIO`] times its
+    /// smallest) times the scales above it (the least over the paths to it); 0 where a leaf other than a plane has no finite box, or
+    /// below a warp or a displacement, which may make a shape smaller than its box. The
     /// distance function's numbers near a surface are about that large or larger, so the
     /// difference normals' step need not go below 2e-5 of it (`normal_step` in
     /// `shaders/main.wgsl`, `FEATURE_SIZE`). A point near the frame's origin (the camera, in
     /// camera-relative coordinates) is no measure of that: seen from 0.05 away, a unit
     /// sphere's distance rounds to 6e-8 while 2e-5 of the point's size is 1e-6, and its
     /// normals were off by 0.4 degree (docs/accuracy.md, "Normals near the camera"). The
-    /// smallest shape keeps its small step (a step near a shape's size tilts its normal:
-    /// moving the point by half a step did on a sphere of radius 1e-3).
+    /// smallest feature keeps its small step (a step near a shape's size tilts its normal:
+    /// moving the point by half a step did on a sphere of radius 1e-3; a slab thinner than
+    /// the step would be stepped across).
     pub feature: f64,
     /// Errors (a twist of an unbounded shape with no declared bound, a displacement whose
     /// slope nothing bounds) and warnings (declared bounds contradicted by sampling).
@@ -144,12 +146,10 @@ impl Analysis {
     }
 }
 
-impl Analysis {
-    /// The size of the smallest shape ([`Analysis::feature`]).
-    pub fn feature_size(&self) -> f64 {
-        self.feature
-    }
-}
+/// A shape's size for [`Analysis::feature`] is at most this many times its box's smallest
+/// half-extent: moving a point by half the normal's step (2e-5 of the size) then tilts the
+/// normal of its thinnest part by at most 2e-5 * 16 / 2 radians (0.01 degree).
+const THIN_RATIO: f64 = 16.0;
 
 /// How far the sampling check reaches on unbounded axes.
 pub const DEFAULT_REGION: f64 = 4.0;
@@ -256,6 +256,9 @@ impl Analyser<'_> {
                     map: PointMap::Affine { s: Some(s), .. },
                     ..
                 } => self.scalar(*s).map_or(0.0, f64::abs),
+                // A warp (a stretch by 0.01) or a displacement (by nearly the radius) may
+                // make what is below it smaller than its box says: no floor below them.
+                ShapeKind::Warp { .. } | ShapeKind::Displace { .. } => 0.0,
                 _ => 1.0,
             };
             let below = scale[i] * own;
@@ -264,17 +267,36 @@ impl Analyser<'_> {
                 scale[c] = scale[c].min(below);
             }
         }
-        let least = self
-            .out
-            .nodes
-            .iter()
-            .zip(&scale)
-            .map(|(info, s)| {
-                let b = &info.bounds;
-                s * (0..3).fold(0.0f64, |m, k| m.max(0.5 * (b.hi[k] - b.lo[k])))
-            })
-            .filter(|h| h.is_finite())
-            .fold(f64::INFINITY, f64::min);
+        let mut least = f64::INFINITY;
+        for ((node, info), s) in self.scene.shapes.iter().zip(&self.out.nodes).zip(&scale) {
+            if !s.is_finite() {
+                continue; // not reached from the root
+            }
+            // A shape's numbers are as large as its largest half-extent (a torus's ring), but
+            // a step of 2e-5 of that must stay far below its thinnest side: at most
+            // `THIN_RATIO` times the smallest.
+            let b = &info.bounds;
+            let halves = [0, 1, 2].map(|k| 0.5 * (b.hi[k] - b.lo[k]));
+            let (small, large) = halves.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &h| {
+                (lo.min(h), hi.max(h))
+            });
+            let half = large.min(THIN_RATIO * small);
+            let leaf = crate::lower::expansion::children(&node.kind).is_empty();
+            let plane = matches!(
+                node.kind,
+                ShapeKind::Prim {
+                    prim: Prim::Plane,
+                    ..
+                }
+            );
+            if half.is_finite() {
+                least = least.min(s * half);
+            } else if leaf && !plane {
+                // A leaf whose size is not known (a lambda's `sdf`, a param's radius, an
+                // infinite cylinder) may be the smallest of all. A plane has no size.
+                return 0.0;
+            }
+        }
         if least.is_finite() {
             least.clamp(0.0, 1e30)
         } else {

@@ -209,7 +209,7 @@ pub fn frame_data_with(
     w.u(consts_at);
     w.u(bounds_at);
     w.u(instances_at);
-    w.f(f32_down(program.analysis.feature_size()));
+    w.f(f32_down(program.analysis.feature));
     // The struct's size is a multiple of its alignment (16, its vec3s'): padded, never cut.
     debug_assert!(w.0.len() <= FRAME_BYTES && FRAME_BYTES - w.0.len() < 16);
     w.0.resize(FRAME_BYTES, 0);

@@ -57,6 +57,27 @@ fn against(
     Ok(())
 }
 
+/// A frame of W x H with its AOVs.
+fn aov_options() -> RenderOptions {
+    RenderOptions {
+        aovs: true,
+        ..RenderOptions::sized(W, H)
+    }
+}
+
+/// The depth AOV of `compiled`'s frame; `what` names the form in a failure.
+fn depth_of(
+    r: &Renderer,
+    src: &str,
+    what: &str,
+    compiled: &sdfc_wgsl::Compiled,
+) -> Result<Vec<f32>, TestCaseError> {
+    let frame = r
+        .render(compiled, &aov_options())
+        .map_err(|e| TestCaseError::fail(format!("{src}: {what}: {e}")))?;
+    Ok(frame.aovs.expect("AOVs").depth)
+}
+
 fn check(r: &Renderer, src: &str) -> Result<bool, TestCaseError> {
     let data = compile(src, Instances::Always, false)?;
     if data.data.is_empty() {
@@ -78,15 +99,8 @@ fn check(r: &Renderer, src: &str) -> Result<bool, TestCaseError> {
     against(src, " as data", &reference, depth)?;
 
     let code = compile(src, Instances::Never, false)?;
-    let opts = RenderOptions {
-        aovs: true,
-        ..RenderOptions::sized(W, H)
-    };
-    let code_frame = r
-        .render(&code, &opts)
-        .map_err(|e| TestCaseError::fail(format!("{src}: code: {e}")))?;
-    let code_depth = &code_frame.aovs.as_ref().expect("AOVs").depth;
-    let (apart, worse) = parted(depth, code_depth, &reference);
+    let code_depth = depth_of(r, src, "code", &code)?;
+    let (apart, worse) = parted(depth, &code_depth, &reference);
     if worse > PARTED_WORSE {
         return Err(TestCaseError::fail(format!(
             "{src}: {worse} of the {apart} pixels where the data form parts from the code are \
@@ -96,20 +110,17 @@ fn check(r: &Renderer, src: &str) -> Result<bool, TestCaseError> {
 
     // The same union as code with bounding-box early-outs (`--cull`).
     let culled = compile(src, Instances::Never, true)?;
-    let culled_frame = r
-        .render(&culled, &opts)
-        .map_err(|e| TestCaseError::fail(format!("{src}: culled: {e}")))?;
     against(
         src,
         " culled",
         &reference,
-        &culled_frame.aovs.as_ref().expect("AOVs").depth,
+        &depth_of(r, src, "culled", &culled)?,
     )?;
 
     if let Some(bytecode) = encode_as_data(code.program()) {
         let bytecode = bytecode.map_err(|e| TestCaseError::fail(format!("{src}: {e:?}")))?;
         let interp = r
-            .render_bytecode(code.program(), &bytecode, &opts)
+            .render_bytecode(code.program(), &bytecode, &aov_options())
             .map_err(|e| TestCaseError::fail(format!("{src}: interpreted: {e}")))?;
         against(
             src,

@@ -36,8 +36,8 @@ pub struct View<'a> {
     /// Whether the march's distance is dear (a union read as data, or `dear::is_dear`): the
     /// march (plain or relaxed) then refines in its stepping loop (`shaders/march_merged.wgsl`).
     pub dear: bool,
-    /// The size of the scene's smallest shape (`Analysis::feature_size`), below which
-    /// the difference normals' step does not go (`FEATURE_SIZE`).
+    /// The size of the scene's smallest shape (`Analysis::feature`), below which the
+    /// difference normals' step does not go (`FEATURE_SIZE`).
     pub feature: f64,
 }
 

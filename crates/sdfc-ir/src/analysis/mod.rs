@@ -102,17 +102,17 @@ pub struct Analysis {
     pub mirror: Vec<[bool; 3]>,
     /// The size of the smallest shape, in the scene's units: the least, over the shapes the
     /// root reaches, of their box's largest half-extent (at most [`THIN_RATIO`] times its
-    /// smallest) times the scales above it (the least over the paths to it); 0 where a leaf other than a plane has no finite box, or
-    /// below a warp or a displacement, which may make a shape smaller than its box. The
-    /// distance function's numbers near a surface are about that large or larger, so the
-    /// difference normals' step need not go below 2e-5 of it (`normal_step` in
-    /// `shaders/main.wgsl`, `FEATURE_SIZE`). A point near the frame's origin (the camera, in
-    /// camera-relative coordinates) is no measure of that: seen from 0.05 away, a unit
-    /// sphere's distance rounds to 6e-8 while 2e-5 of the point's size is 1e-6, and its
-    /// normals were off by 0.4 degree (docs/accuracy.md, "Normals near the camera"). The
-    /// smallest feature keeps its small step (a step near a shape's size tilts its normal:
-    /// moving the point by half a step did on a sphere of radius 1e-3; a slab thinner than
-    /// the step would be stepped across).
+    /// smallest) times the scales above it (the least over the paths to it); 0 where a leaf
+    /// other than a plane has no finite box, or below a warp or a displacement, which may
+    /// make a shape smaller than its box. The distance function's numbers near a surface are
+    /// about that large or larger, so the difference normals' step need not go below 2e-5 of
+    /// it (`normal_step` in `shaders/main.wgsl`, `FEATURE_SIZE`). A point near the frame's
+    /// origin (the camera, in camera-relative coordinates) is no measure of that: seen from
+    /// 0.05 away, a unit sphere's distance rounds to 6e-8 while 2e-5 of the point's size is
+    /// 1e-6, and its normals were off by 0.4 degree (docs/accuracy.md, "Normals near the
+    /// camera"). The smallest shape keeps its small step (a step near a shape's size tilts
+    /// its normal: moving the point by half a step did on a sphere of radius 1e-3; a slab
+    /// thinner than the step would be stepped across).
     pub feature: f64,
     /// Errors (a twist of an unbounded shape with no declared bound, a displacement whose
     /// slope nothing bounds) and warnings (declared bounds contradicted by sampling).
@@ -277,9 +277,8 @@ impl Analyser<'_> {
             // `THIN_RATIO` times the smallest.
             let b = &info.bounds;
             let halves = [0, 1, 2].map(|k| 0.5 * (b.hi[k] - b.lo[k]));
-            let (small, large) = halves.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &h| {
-                (lo.min(h), hi.max(h))
-            });
+            let small = halves.into_iter().fold(f64::INFINITY, f64::min);
+            let large = halves.into_iter().fold(0.0, f64::max);
             let half = large.min(THIN_RATIO * small);
             let leaf = crate::lower::expansion::children(&node.kind).is_empty();
             let plane = matches!(

@@ -1,4 +1,4 @@
-//! The `.sdf` scene language front end: parsing (pest grammar in `grammar/sdf.pest`), the AST
+//! The `.sdf` scene language front end: parsing (pest grammar in `grammar/`), the AST
 //! with spans, diagnostics, and an AST dump for golden tests. No pest type is public.
 //!
 //! Limits the parser guarantees to later stages: a source is at most [`MAX_SOURCE_BYTES`],
@@ -11,6 +11,7 @@ pub mod diag;
 pub mod pretty;
 pub mod span;
 
+mod grammar;
 mod lower;
 mod parser;
 mod scan;

@@ -1,10 +1,11 @@
-//! Builds the AST of one item from pest's pairs: binary operators through pest's PrattParser,
-//! unary minus and postfix forms as loops, number literals converted (and checked) here.
+//! Builds the AST of one item from the tree parser's pairs (`grammar/tree.pest`): binary
+//! operators and postfix forms through pest's PrattParser, unary minus as a loop, number
+//! literals converted (and checked) here.
 //! Also enforces the depth limits that keep every later recursive pass off the stack limit.
 
 use crate::ast::*;
 use crate::diag::Diagnostic;
-use crate::parser::Rule;
+use crate::grammar::tree::Rule;
 use crate::span::Span;
 use crate::MAX_EXPR_DEPTH;
 use pest::iterators::{Pair, Pairs};
@@ -12,6 +13,9 @@ use pest::pratt_parser::{Assoc, Op, PrattParser};
 use std::cell::RefCell;
 
 /// The binary operators, lowest precedence first; each line is one level, all left-associative.
+/// Postfix forms (`.f(args)`, `.x`) bind tighter than any of them: the tree parser leaves a
+/// term's postfix pairs after its primary in the expression's list, where a term has no
+/// minus sign (one that has is a `neg_term` pair, built by [`Lower::term`]).
 pub(crate) fn pratt() -> PrattParser<Rule> {
     let l = |r| Op::infix(r, Assoc::Left);
     PrattParser::new()
@@ -25,6 +29,7 @@ pub(crate) fn pratt() -> PrattParser<Rule> {
             | l(Rule::op_ne))
         .op(l(Rule::op_add) | l(Rule::op_sub))
         .op(l(Rule::op_mul) | l(Rule::op_div) | l(Rule::op_rem))
+        .op(Op::postfix(Rule::postfix))
 }
 
 /// The error has been recorded in [`Lower::diags`]; unwind the current item.
@@ -212,8 +217,10 @@ impl<'p> Lower<'p> {
         self.pratt
             .map_primary(|operand| match operand.as_rule() {
                 Rule::lambda => self.lambda(operand),
-                _ => self.term(operand),
+                Rule::neg_term => self.term(operand),
+                _ => self.primary(operand),
             })
+            .map_postfix(|recv, op| self.postfix(recv?, op))
             .map_infix(|lhs, op, rhs| {
                 let (lhs, rhs) = (lhs?, rhs?);
                 let bin = binary_op(op.as_rule())
@@ -252,8 +259,9 @@ impl<'p> Lower<'p> {
         })
     }
 
-    /// `neg* primary postfix*`: postfix forms apply first (left to right), then the minus signs
-    /// (innermost first). Loops, not recursion, so long chains cannot exhaust the stack.
+    /// A `neg_term`, `neg+ primary postfix*`: postfix forms apply first (left to right), then
+    /// the minus signs (innermost first). Loops, not recursion, so long chains cannot exhaust
+    /// the stack.
     fn term(&self, pair: Pair<'_, Rule>) -> R<Node> {
         let term_span = self.span(&pair);
         let mut negs = Vec::new();
@@ -289,9 +297,10 @@ impl<'p> Lower<'p> {
         let mut inner = pair.into_inner();
         let member = self.ident(&self.expect(&mut inner, Rule::member, pspan)?);
         let is_call = inner.clone().any(|p| p.as_rule() == Rule::lparen);
-        // The pair's own span may include whitespace that pest skipped before trying the
-        // optional argument list, so the node ends at the member name or at the `)`.
-        let end = inner.clone().last().map_or(member.span, |p| self.span(&p));
+        // Without an argument list the pair's span may include whitespace that pest skipped
+        // before trying one, so the node ends at the member name; with one, the pair ends at
+        // its `)`.
+        let end = if is_call { pspan } else { member.span };
         let span = recv.expr.span.to(member.span).to(end);
         if is_call {
             let (mut args, depth) = self.args(inner)?;
@@ -325,32 +334,34 @@ impl<'p> Lower<'p> {
         }
     }
 
-    /// The `arg` pairs among `pairs`, and the depth of the deepest argument value.
+    /// The arguments among `pairs` (each an `expr`, after its `arg_name` if it has one), and
+    /// the depth of the deepest argument value.
     fn args(&self, pairs: Pairs<'_, Rule>) -> R<(Vec<Arg>, usize)> {
         let mut args = Vec::new();
         let mut depth = 0;
         let mut failed = false;
-        for p in pairs.filter(|p| p.as_rule() == Rule::arg) {
-            let mut name = None;
-            let mut value = None;
-            for q in p.into_inner() {
-                match q.as_rule() {
-                    Rule::arg_name => name = Some(self.ident(&q)),
-                    Rule::expr => value = Some(self.expr_node(q)),
-                    _ => {}
-                }
+        let mut name = None;
+        for p in pairs {
+            match p.as_rule() {
+                Rule::arg_name => name = Some(self.ident(&p)),
+                Rule::expr => match self.expr_node(p) {
+                    Ok(v) => {
+                        depth = depth.max(v.depth);
+                        args.push(Arg {
+                            name: name.take(),
+                            value: v.expr,
+                        });
+                    }
+                    Err(Stop) => {
+                        name = None;
+                        failed = true;
+                    }
+                },
+                _ => {}
             }
-            match value {
-                Some(Ok(v)) => {
-                    depth = depth.max(v.depth);
-                    args.push(Arg {
-                        name,
-                        value: v.expr,
-                    });
-                }
-                Some(Err(Stop)) => failed = true,
-                None => return Err(self.internal(Span::default(), "argument without a value")),
-            }
+        }
+        if let Some(name) = name {
+            return Err(self.internal(name.span, "argument without a value"));
         }
         if failed {
             Err(Stop)

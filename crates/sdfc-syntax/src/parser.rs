@@ -1,16 +1,15 @@
-//! The parse driver: pre-checks, then pest one item at a time, resynchronising after each
-//! syntax error so that one run reports every error it can find.
+//! The parse driver: pre-checks, then pest one item at a time (the tree parser; the report
+//! parser again for an item with a syntax error), resynchronising after each syntax error so
+//! that one run reports every error it can find.
 
 use crate::ast::File;
 use crate::diag::Diagnostic;
+use crate::grammar::report::{self, ReportParser};
+use crate::grammar::tree::{Rule, TreeParser};
 use crate::lower::{self, Lower};
 use crate::span::Span;
 use crate::{scan, syntax_error};
-use pest::Parser;
-
-#[derive(pest_derive::Parser)]
-#[grammar = "../../../grammar/sdf.pest"]
-struct SdfParser;
+use pest::{Parser, RuleType};
 
 /// After this many diagnostics the parser stops looking for more.
 const MAX_DIAGNOSTICS: usize = 100;
@@ -19,10 +18,12 @@ const MAX_DIAGNOSTICS: usize = 100;
 /// broken inputs (unclosed parentheses inside lambdas, nested a dozen deep) once made it take
 /// exponential time: 2.8 kB files found by the fuzzer took minutes. The grammar no longer
 /// backtracks like that (see `expr` in the grammar), but any future rule that does is still
-/// stopped here instead of hanging. A valid item needs fewer
-/// than 24 calls per byte (a 1 MiB flat union passes with 24 per byte of the file size limit,
-/// fails with 16), so 32 leaves a margin and bounds a tangled item to about 1.5 s on the
-/// development VM. Exceeding it is reported as a syntax error at the item.
+/// stopped here instead of hanging. A valid item needs fewer than 24 calls per byte of the
+/// report parser (a 1 MiB flat union passes with 24 per byte of the file size limit, fails
+/// with 16), and fewer of the tree parser, so 32 leaves a margin and bounds a tangled item to
+/// about 1.5 s on the development VM, twice that where the tree parser finds a syntax error
+/// and the report parser, parsing the item again for its message, runs out. Exceeding it is
+/// reported as a syntax error at the item.
 pub const CALL_LIMIT: usize = 32 * crate::MAX_SOURCE_BYTES;
 
 pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
@@ -53,7 +54,7 @@ pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
             diags.push(internal(pos, "resumed inside a character"));
             break;
         };
-        match SdfParser::parse(Rule::next_item, rest) {
+        match TreeParser::parse(Rule::next_item, rest) {
             Ok(mut pairs) => {
                 let Some(item) = pairs.next().and_then(|p| p.into_inner().next()) else {
                     diags.push(internal(pos, "empty parse"));
@@ -73,26 +74,29 @@ pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
                 pos += end.max(1);
             }
             Err(error) if is_call_limit(&error) => {
-                diags.push(
-                    Diagnostic::error(
-                        Span::new(pos, bound),
-                        "this item is too tangled for the parser to make sense of",
-                    )
-                    .with_label("gave up parsing here")
-                    .with_hint(
-                        "look for unclosed `(` or `[` in this item; split long expressions \
-                         with `let`",
-                    ),
-                );
+                diags.push(tangled(pos, bound));
                 context = pos;
                 pos = bound.max(pos + 1);
             }
-            Err(error) => {
-                let (err_pos, d) = syntax_error::diagnose(source, pos, context, &error);
-                diags.push(d);
-                context = pos;
-                pos = scan::resync(source, pos, err_pos).max(pos + 1);
-            }
+            // The tree parser's pairs cannot name the punctuation that was expected: the
+            // report parser parses the item again for the message (a broken item only).
+            Err(_) => match ReportParser::parse(report::Rule::next_item, rest) {
+                Err(error) if is_call_limit(&error) => {
+                    diags.push(tangled(pos, bound));
+                    context = pos;
+                    pos = bound.max(pos + 1);
+                }
+                Err(error) => {
+                    let (err_pos, d) = syntax_error::diagnose(source, pos, context, &error);
+                    diags.push(d);
+                    context = pos;
+                    pos = scan::resync(source, pos, err_pos).max(pos + 1);
+                }
+                Ok(_) => {
+                    diags.push(internal(pos, "the tree and report parsers disagree"));
+                    break;
+                }
+            },
         }
     }
     if diags.is_empty() {
@@ -103,11 +107,21 @@ pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
 }
 
 /// Whether pest gave up because the item used up [`CALL_LIMIT`].
-fn is_call_limit(error: &pest::error::Error<Rule>) -> bool {
+fn is_call_limit<R: RuleType>(error: &pest::error::Error<R>) -> bool {
     matches!(
         &error.variant,
         pest::error::ErrorVariant::CustomError { message } if message.contains("call limit")
     )
+}
+
+/// The item from `pos` to `bound` used up [`CALL_LIMIT`].
+fn tangled(pos: usize, bound: usize) -> Diagnostic {
+    Diagnostic::error(
+        Span::new(pos, bound),
+        "this item is too tangled for the parser to make sense of",
+    )
+    .with_label("gave up parsing here")
+    .with_hint("look for unclosed `(` or `[` in this item; split long expressions with `let`")
 }
 
 fn internal(pos: usize, what: &str) -> Diagnostic {
@@ -122,17 +136,120 @@ fn internal(pos: usize, what: &str) -> Diagnostic {
 mod tests {
     use super::*;
 
+    /// Every scene and error file of the repository.
+    fn sources() -> Vec<(String, String)> {
+        let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../");
+        let mut out = Vec::new();
+        for dir in ["tests/corpus", "tests/errors", "tests/scenes", "examples"] {
+            let mut paths: Vec<_> = std::fs::read_dir(format!("{root}{dir}"))
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .filter(|p| p.extension().is_some_and(|x| x == "sdf"))
+                .collect();
+            paths.sort();
+            for p in paths {
+                out.push((
+                    p.display().to_string(),
+                    std::fs::read_to_string(&p).unwrap(),
+                ));
+            }
+        }
+        assert!(out.len() > 80, "the scene files have moved");
+        out
+    }
+
+    /// What a parser made of an item at the start of `text`: where it ends, a syntax error,
+    /// or `None` where it ran out of calls (the tree parser needs fewer, so only the others
+    /// are compared).
+    fn outcome<R: RuleType>(
+        result: Result<pest::iterators::Pairs<'_, R>, pest::error::Error<R>>,
+    ) -> Option<Result<usize, ()>> {
+        match result {
+            Ok(pairs) => Some(Ok(pairs.last().map_or(0, |p| p.as_span().end()))),
+            Err(e) if is_call_limit(&e) => None,
+            Err(_) => Some(Err(())),
+        }
+    }
+
+    /// The tree parser and the report parser accept the same texts and end an item at the
+    /// same place: the driver builds the tree from one and reports errors from the other,
+    /// which is right only if their companions' rules match alike. An item is parsed from
+    /// every seventh character of every scene and error file (mostly broken text), and whole
+    /// files with one character taken out, doubled, or changed into punctuation.
+    #[test]
+    fn the_tree_and_report_parsers_accept_the_same_texts() {
+        pest::set_call_limit(std::num::NonZeroUsize::new(CALL_LIMIT));
+        let mut compared = 0;
+        let mut rejected = 0;
+        // `whole`: the text as one file (`file`), else its first item (`next_item`).
+        let mut check = |text: &str, whole: bool, what: &dyn Fn() -> String| {
+            let (t, r) = match whole {
+                true => (Rule::file, report::Rule::file),
+                false => (Rule::next_item, report::Rule::next_item),
+            };
+            let tree = outcome(TreeParser::parse(t, text));
+            let rep = outcome(ReportParser::parse(r, text));
+            if let (Some(t), Some(r)) = (tree, rep) {
+                assert_eq!(t, r, "{}", what());
+                compared += 1;
+                rejected += usize::from(t.is_err());
+            }
+        };
+        for (name, src) in sources() {
+            let starts = (0..src.len())
+                .step_by(7)
+                .filter(|&i| src.is_char_boundary(i));
+            for i in starts {
+                check(&src[i..], false, &|| format!("{name} from byte {i}"));
+            }
+            let cuts = (0..src.len())
+                .step_by(13)
+                .filter(|&i| src.is_char_boundary(i));
+            for i in cuts {
+                let Some(c) = src[i..].chars().next() else {
+                    continue;
+                };
+                let j = i + c.len_utf8();
+                for with in [
+                    String::new(),
+                    format!("{c}{c}"),
+                    ")".into(),
+                    ",".into(),
+                    "-".into(),
+                ] {
+                    let edited = format!("{}{with}{}", &src[..i], &src[j..]);
+                    check(&edited, true, &|| {
+                        format!("{name}, byte {i} replaced by {with:?}")
+                    });
+                }
+            }
+        }
+        // Both kinds of outcome were compared, many times.
+        assert!(
+            compared > 10_000 && rejected > compared / 4,
+            "{compared}, {rejected}"
+        );
+    }
+
     /// The whole-file rule documents the same language the item-by-item driver parses.
     #[test]
     fn file_rule_matches_the_driver() {
         let corpus = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/corpus/");
         for name in ["constructs.sdf", "spec_section10.sdf"] {
             let src = std::fs::read_to_string(format!("{corpus}{name}")).unwrap();
-            assert!(SdfParser::parse(Rule::file, &src).is_ok(), "{name}");
+            assert!(TreeParser::parse(Rule::file, &src).is_ok(), "{name}");
+            assert!(
+                ReportParser::parse(report::Rule::file, &src).is_ok(),
+                "{name}"
+            );
             assert!(parse(&src).is_ok(), "{name}");
         }
         for bad in ["let a = 1", "scene = ;", "material m { a: 1 };", "x"] {
-            assert!(SdfParser::parse(Rule::file, bad).is_err(), "{bad}");
+            assert!(TreeParser::parse(Rule::file, bad).is_err(), "{bad}");
+            assert!(
+                ReportParser::parse(report::Rule::file, bad).is_err(),
+                "{bad}"
+            );
             assert!(parse(bad).is_err(), "{bad}");
         }
     }

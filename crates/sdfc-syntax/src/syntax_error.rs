@@ -2,7 +2,7 @@
 //! found, with a hint where an obvious one exists. No pest rule name reaches the user.
 
 use crate::diag::{nearest, Diagnostic};
-use crate::parser::Rule;
+use crate::grammar::report::Rule;
 use crate::scan;
 use crate::span::Span;
 use pest::error::{ErrorVariant, InputLocation};

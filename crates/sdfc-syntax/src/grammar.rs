@@ -1,6 +1,7 @@
-//! The two pest parsers of the grammar (`grammar/sdf.pest`), which accept the same texts: the
-//! tree parser, whose pairs the tree is built from, and the report parser, which keeps a pair
-//! for every punctuation mark so that a syntax error can name what was expected.
+//! The two pest parsers of the grammar (`grammar/sdf.pest`), which accept the same texts
+//! within pest's call budget (the tree parser needs no more calls): the tree parser, whose
+//! pairs the tree is built from, and the report parser, which keeps a pair for every
+//! punctuation mark so that a syntax error can name what was expected.
 
 /// Parses every item first: punctuation, `term` and `arg` are silent (`grammar/tree.pest`).
 pub(crate) mod tree {

@@ -546,7 +546,8 @@ fn binary_op(rule: Rule) -> Option<BinaryOp> {
     })
 }
 
-/// Keyword and punctuation pairs, which carry no information once the tree is built.
+/// Keyword and punctuation pairs, which carry no information once the tree is built (the
+/// tree parser's other punctuation is silent).
 fn is_punct(rule: Rule) -> bool {
     matches!(
         rule,
@@ -558,18 +559,8 @@ fn is_punct(rule: Rule) -> bool {
             | Rule::kw_camera
             | Rule::kw_render
             | Rule::kw_scene
-            | Rule::semi
             | Rule::assign
-            | Rule::colon
-            | Rule::comma
-            | Rule::dot
-            | Rule::bar
             | Rule::lparen
-            | Rule::rparen
-            | Rule::lbracket
-            | Rule::rbracket
-            | Rule::lbrace
-            | Rule::rbrace
     )
 }
 

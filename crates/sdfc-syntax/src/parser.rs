@@ -18,12 +18,15 @@ const MAX_DIAGNOSTICS: usize = 100;
 /// broken inputs (unclosed parentheses inside lambdas, nested a dozen deep) once made it take
 /// exponential time: 2.8 kB files found by the fuzzer took minutes. The grammar no longer
 /// backtracks like that (see `expr` in the grammar), but any future rule that does is still
-/// stopped here instead of hanging. A valid item needs fewer than 24 calls per byte of the
-/// report parser (a 1 MiB flat union passes with 24 per byte of the file size limit, fails
-/// with 16), and fewer of the tree parser, so 32 leaves a margin and bounds a tangled item to
-/// about 1.5 s on the development VM, twice that where the tree parser finds a syntax error
-/// and the report parser, parsing the item again for its message, runs out. Exceeding it is
-/// reported as a syntax error at the item.
+/// stopped here instead of hanging. A 1 MiB flat union of spheres passes with 24 calls per
+/// byte of the file size limit and fails with 16; a chain `1+1+...` needs more than 32, and
+/// is refused. 32 bounds a tangled item to about 1.5 s on the development VM, twice that
+/// where the tree parser finds a syntax error and the report parser, parsing the item again
+/// for its message, runs out. The tree parser never needs more calls than the report parser
+/// (a test below), so where it runs out the report parser would too, and "too tangled" is
+/// said without asking it; an item near the limit that the report parser alone (the grammar
+/// before the split) gave up on now parses. Exceeding it is reported as a syntax error at
+/// the item.
 pub const CALL_LIMIT: usize = 32 * crate::MAX_SOURCE_BYTES;
 
 pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
@@ -135,6 +138,14 @@ fn internal(pos: usize, what: &str) -> Diagnostic {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::{Mutex, MutexGuard};
+
+    /// pest's call limit is process-wide: the tests that parse take turns, since one of them
+    /// sets small limits.
+    fn pest_turn() -> MutexGuard<'static, ()> {
+        static PEST: Mutex<()> = Mutex::new(());
+        PEST.lock().unwrap_or_else(|e| e.into_inner())
+    }
 
     /// Every scene and error file of the repository.
     fn sources() -> Vec<(String, String)> {
@@ -158,49 +169,29 @@ mod tests {
         out
     }
 
-    /// What a parser made of an item at the start of `text`: where it ends, a syntax error,
-    /// or `None` where it ran out of calls (the tree parser needs fewer, so only the others
-    /// are compared).
-    fn outcome<R: RuleType>(
-        result: Result<pest::iterators::Pairs<'_, R>, pest::error::Error<R>>,
-    ) -> Option<Result<usize, ()>> {
-        match result {
-            Ok(pairs) => Some(Ok(pairs.last().map_or(0, |p| p.as_span().end()))),
-            Err(e) if is_call_limit(&e) => None,
-            Err(_) => Some(Err(())),
-        }
+    /// A text to parse: as one file (`whole`, the `file` rule) or its first item
+    /// (`next_item`), and where it came from.
+    struct Text {
+        text: String,
+        whole: bool,
+        from: String,
     }
 
-    /// The tree parser and the report parser accept the same texts and end an item at the
-    /// same place: the driver builds the tree from one and reports errors from the other,
-    /// which is right only if their companions' rules match alike. An item is parsed from
-    /// every seventh character of every scene and error file (mostly broken text), and whole
-    /// files with one character taken out, doubled, or changed into punctuation.
-    #[test]
-    fn the_tree_and_report_parsers_accept_the_same_texts() {
-        pest::set_call_limit(std::num::NonZeroUsize::new(CALL_LIMIT));
-        let mut compared = 0;
-        let mut rejected = 0;
-        // `whole`: the text as one file (`file`), else its first item (`next_item`).
-        let mut check = |text: &str, whole: bool, what: &dyn Fn() -> String| {
-            let (t, r) = match whole {
-                true => (Rule::file, report::Rule::file),
-                false => (Rule::next_item, report::Rule::next_item),
-            };
-            let tree = outcome(TreeParser::parse(t, text));
-            let rep = outcome(ReportParser::parse(r, text));
-            if let (Some(t), Some(r)) = (tree, rep) {
-                assert_eq!(t, r, "{}", what());
-                compared += 1;
-                rejected += usize::from(t.is_err());
-            }
-        };
+    /// Mostly broken texts: an item from every seventh character of every scene and error
+    /// file, and whole files with one character taken out, doubled, or changed into
+    /// punctuation.
+    fn texts() -> Vec<Text> {
+        let mut out = Vec::new();
         for (name, src) in sources() {
             let starts = (0..src.len())
                 .step_by(7)
                 .filter(|&i| src.is_char_boundary(i));
             for i in starts {
-                check(&src[i..], false, &|| format!("{name} from byte {i}"));
+                out.push(Text {
+                    text: src[i..].to_string(),
+                    whole: false,
+                    from: format!("{name} from byte {i}"),
+                });
             }
             let cuts = (0..src.len())
                 .step_by(13)
@@ -217,11 +208,73 @@ mod tests {
                     ",".into(),
                     "-".into(),
                 ] {
-                    let edited = format!("{}{with}{}", &src[..i], &src[j..]);
-                    check(&edited, true, &|| {
-                        format!("{name}, byte {i} replaced by {with:?}")
+                    out.push(Text {
+                        text: format!("{}{with}{}", &src[..i], &src[j..]),
+                        whole: true,
+                        from: format!("{name}, byte {i} replaced by {with:?}"),
                     });
                 }
+            }
+        }
+        // Items of negated terms, where the tree parser's calls come nearest the report's.
+        for k in [1, 3, 10, 30, 100, 300] {
+            for neg in ["-1", "-x.y", "- -[1, -2].z", "-f(-1, a: -2)"] {
+                out.push(Text {
+                    text: format!("let v = f({});", vec![neg; k].join(", ")),
+                    whole: false,
+                    from: format!("{k} arguments `{neg}`"),
+                });
+                out.push(Text {
+                    text: format!("let v = {};", vec![neg; k].join(" * ")),
+                    whole: false,
+                    from: format!("{k} factors `{neg}`"),
+                });
+            }
+        }
+        out
+    }
+
+    /// What a parser made of a text: where it ends, a syntax error, or `None` where it ran
+    /// out of calls.
+    type Outcome = Option<Result<usize, ()>>;
+
+    /// The [`Outcome`] of one parse.
+    fn outcome<R: RuleType>(
+        result: Result<pest::iterators::Pairs<'_, R>, pest::error::Error<R>>,
+    ) -> Outcome {
+        match result {
+            Ok(pairs) => Some(Ok(pairs.last().map_or(0, |p| p.as_span().end()))),
+            Err(e) if is_call_limit(&e) => None,
+            Err(_) => Some(Err(())),
+        }
+    }
+
+    /// Both parsers' outcomes for `t`.
+    fn both(t: &Text) -> (Outcome, Outcome) {
+        let (tree, rep) = match t.whole {
+            true => (Rule::file, report::Rule::file),
+            false => (Rule::next_item, report::Rule::next_item),
+        };
+        (
+            outcome(TreeParser::parse(tree, &t.text)),
+            outcome(ReportParser::parse(rep, &t.text)),
+        )
+    }
+
+    /// The tree parser and the report parser accept the same texts and end an item at the
+    /// same place: the driver builds the tree from one and reports errors from the other,
+    /// which is right only if their companions' rules match alike. It fails if a
+    /// companion's `]` also takes `)`, or its term one postfix form instead of many.
+    #[test]
+    fn the_tree_and_report_parsers_accept_the_same_texts() {
+        let _turn = pest_turn();
+        pest::set_call_limit(std::num::NonZeroUsize::new(CALL_LIMIT));
+        let (mut compared, mut rejected) = (0, 0);
+        for t in texts() {
+            if let (Some(tree), Some(rep)) = both(&t) {
+                assert_eq!(tree, rep, "{}", t.from);
+                compared += 1;
+                rejected += usize::from(tree.is_err());
             }
         }
         // Both kinds of outcome were compared, many times.
@@ -231,9 +284,43 @@ mod tests {
         );
     }
 
+    /// The tree parser runs out of pest's calls ([`CALL_LIMIT`]) only where the report parser
+    /// does too: the driver reports "too tangled" from the first without asking the second,
+    /// which is what the report parser (the grammar as it was before the split) would have
+    /// said. The same texts under small budgets, which most of them exceed. It fails with a
+    /// guard (`&"-" ~ neg_term`) before the tree parser's negated terms, whose sequence and
+    /// lookahead cost more calls than the report parser's `neg*`.
+    #[test]
+    fn the_tree_parser_needs_no_more_calls_than_the_report_parser() {
+        let _turn = pest_turn();
+        let (mut both_out, mut report_only) = (0, 0);
+        let texts = texts();
+        for limit in [64, 256, 1024, 4096, 16384] {
+            pest::set_call_limit(std::num::NonZeroUsize::new(limit));
+            for t in &texts {
+                match both(t) {
+                    (None, None) => both_out += 1,
+                    (None, Some(_)) => {
+                        pest::set_call_limit(std::num::NonZeroUsize::new(CALL_LIMIT));
+                        panic!("{}: only the tree parser ran out of {limit} calls", t.from);
+                    }
+                    (Some(_), None) => report_only += 1,
+                    (Some(_), Some(_)) => {}
+                }
+            }
+        }
+        pest::set_call_limit(std::num::NonZeroUsize::new(CALL_LIMIT));
+        // The budgets were reached by both, and by the report parser alone (it needs more).
+        assert!(
+            both_out > 10_000 && report_only > 500,
+            "{both_out}, {report_only}"
+        );
+    }
+
     /// The whole-file rule documents the same language the item-by-item driver parses.
     #[test]
     fn file_rule_matches_the_driver() {
+        let _turn = pest_turn();
         let corpus = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/corpus/");
         for name in ["constructs.sdf", "spec_section10.sdf"] {
             let src = std::fs::read_to_string(format!("{corpus}{name}")).unwrap();

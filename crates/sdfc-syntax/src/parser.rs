@@ -76,30 +76,33 @@ pub(crate) fn parse(source: &str) -> Result<File, Vec<Diagnostic>> {
                 context = pos;
                 pos += end.max(1);
             }
-            Err(error) if is_call_limit(&error) => {
-                diags.push(tangled(pos, bound));
-                context = pos;
-                pos = bound.max(pos + 1);
+            Err(tree_error) => {
+                // The tree parser's pairs cannot name the punctuation that was expected: the
+                // report parser parses the item again for the message (a broken item only).
+                // Where the tree parser ran out of calls, so would it (it needs as many or
+                // more), and the item is too tangled either way.
+                let report = match is_call_limit(&tree_error) {
+                    true => Err(None),
+                    false => ReportParser::parse(report::Rule::next_item, rest).map_err(Some),
+                };
+                match report {
+                    Err(Some(error)) if !is_call_limit(&error) => {
+                        let (err_pos, d) = syntax_error::diagnose(source, pos, context, &error);
+                        diags.push(d);
+                        context = pos;
+                        pos = scan::resync(source, pos, err_pos).max(pos + 1);
+                    }
+                    Err(_) => {
+                        diags.push(tangled(pos, bound));
+                        context = pos;
+                        pos = bound.max(pos + 1);
+                    }
+                    Ok(_) => {
+                        diags.push(internal(pos, "the tree and report parsers disagree"));
+                        break;
+                    }
+                }
             }
-            // The tree parser's pairs cannot name the punctuation that was expected: the
-            // report parser parses the item again for the message (a broken item only).
-            Err(_) => match ReportParser::parse(report::Rule::next_item, rest) {
-                Err(error) if is_call_limit(&error) => {
-                    diags.push(tangled(pos, bound));
-                    context = pos;
-                    pos = bound.max(pos + 1);
-                }
-                Err(error) => {
-                    let (err_pos, d) = syntax_error::diagnose(source, pos, context, &error);
-                    diags.push(d);
-                    context = pos;
-                    pos = scan::resync(source, pos, err_pos).max(pos + 1);
-                }
-                Ok(_) => {
-                    diags.push(internal(pos, "the tree and report parsers disagree"));
-                    break;
-                }
-            },
         }
     }
     if diags.is_empty() {

@@ -32,3 +32,12 @@ fn normal_nearest(p: vec3<f32>) -> Nearest {
 fn normal_distance(p: vec3<f32>) -> f32 {
     return normal_nearest(p).distance;
 }
+
+// The normal's samples about the march's end (the tetrahedron's, `scene_normal`): the
+// distance of the instance nearest the end (`leaf`, from `normal_nearest` there) alone, or
+// the other children's where no instance is nearer there (leaf 0). Both are computed and one
+// kept: on lavapipe an `if` runs its body under masks whatever the lanes need, and the
+// instance's distance is cheap beside the ray's list (`shaders/instances_ends.wgsl`).
+fn normal_sample(p: vec3<f32>, leaf: u32) -> f32 {
+    return select(rest_distance(p), instance_distance(p, max(leaf, 1u)), leaf != 0u);
+}

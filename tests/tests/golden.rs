@@ -380,14 +380,16 @@ fn instances_union_wgsl() {
     insta::assert_snapshot!("instances_union.wgsl", &c.wgsl[start..end]);
     // Each march lists the instances its ray passes first; the march, the refinement and the
     // normal sample through that list (`shaders/instances_rays.wgsl`), the march and the
-    // refinement in one loop (`shaders/march_merged.wgsl`); the tetrahedron normal's fifth
-    // sample finds the material's instance (`end_leaf`).
+    // refinement in one loop (`shaders/march_merged.wgsl`); the tetrahedron normal finds
+    // the material's instance at the march's end (`end_leaf`) and samples it alone.
     assert!(c.wgsl.contains("ray_start(ro, rd, span.x, span.y, pixel);"));
     assert_eq!(c.wgsl.matches("fn march_listed(").count(), 1);
     assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 1);
+    assert!(c.wgsl.contains("let leaf = normal_nearest(end).leaf;"));
+    assert!(c.wgsl.contains("normal_sample(p + k[i] * h, leaf)"));
     assert!(c
         .wgsl
-        .contains("normal_nearest(select(p + k[i & 3u] * h, end, i == 4u))"));
+        .contains("return instance_distance(p, max(leaf, 1u));"));
     assert!(c.wgsl.contains("return ray_end_leaf;"));
     // Without the option, the same scene is code.
     let code = compile("instances_union", &src, &Options::default());
@@ -415,6 +417,8 @@ fn instances_union_wgsl() {
     };
     let text = cut("fn rest_distance(", "fn rest_material(")
         + "\n"
-        + &cut("fn scene_distance(", "fn scene_material(");
+        + &cut("fn scene_distance(", "fn scene_material(")
+        + "\n"
+        + &cut("fn normal_sample(", "fn normal_sample(");
     insta::assert_snapshot!("instances_mixed.wgsl", text);
 }

@@ -198,12 +198,13 @@ const TETRAHEDRON_LOOP: &str = "    for (var i = 0u; i < 4u; i = i + 1u) {
 const NORMAL_CALL: &str = "scene_normal(round(q / h) * h, h)";
 
 /// A difference normal's part for a union read as data: its samples through the ray's list
-/// (`normal_distance`). The tetrahedron's loop takes a fifth trip at the march's end `end`
-/// itself (not rounded to the step), where it keeps the nearest instance's leaf word for the
-/// material (`end_leaf`): llvmpipe runs every inlined copy of the list's loop and of the walk
-/// under masks, so one `normal_nearest` for both instead of two drew the 300-shape grid 1.04x
-/// (from close by) to 1.08x (from the suite's camera) faster, the same picture to the bit
-/// (docs/performance.md).
+/// (`normal_distance`), but the tetrahedron's. That one asks the list once, at the march's
+/// end `end` itself (not rounded to the step), for the nearest instance, keeps its leaf word
+/// for the material (`end_leaf`; one `normal_nearest` for both instead of two drew the
+/// 300-shape grid 1.04x to 1.08x faster on lavapipe, which runs every inlined copy of the
+/// list's loop under masks), and samples that instance's distance alone (`normal_sample` in
+/// `shaders/instances_ends.wgsl`: 1.07x to 1.08x more, the same pictures; docs/performance.md,
+/// "The normal from the nearest instance").
 fn normal_listed(part: &str, normals: Normals) -> String {
     if normals == Normals::Tetrahedron {
         part.replace(
@@ -212,15 +213,12 @@ fn normal_listed(part: &str, normals: Normals) -> String {
         )
         .replace(
             TETRAHEDRON_LOOP,
-            "    // A fifth trip at the march's end `end` (not rounded): the instance nearest there,
-    // for its material (`end_leaf`), with the samples' one inlined copy of the list.
-    for (var i = 0u; i < 5u; i = i + 1u) {
-        let near = normal_nearest(select(p + k[i & 3u] * h, end, i == 4u));
-        if i < 4u {
-            n = n + k[i] * near.distance;
-        } else {
-            ray_end_leaf = near.leaf;
-        }
+            "    // The instance nearest the march's end `end` (not rounded), for the material too
+    // (`end_leaf`); the samples take its distance alone (`normal_sample`).
+    let leaf = normal_nearest(end).leaf;
+    ray_end_leaf = leaf;
+    for (var i = 0u; i < 4u; i = i + 1u) {
+        n = n + k[i] * normal_sample(p + k[i] * h, leaf);
     }",
         )
     } else {
@@ -229,14 +227,14 @@ fn normal_listed(part: &str, normals: Normals) -> String {
 }
 
 /// The entry point's part for a union read as data, and `end_leaf`, the leaf word of the
-/// instance nearest the march's end that `scene_material` takes: the tetrahedron normal's
-/// fifth trip found it (both radiance parts take the normal at a surface point before its
-/// material), the other normals leave it to a call of its own.
+/// instance nearest the march's end that `scene_material` takes: the tetrahedron normal
+/// found it before its samples (both radiance parts take the normal at a surface point
+/// before its material), the other normals leave it to a call of its own.
 fn end_leaf(main: &str, normals: Normals) -> String {
     let doc = "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n// material.\n";
     if normals == Normals::Tetrahedron {
         format!(
-            "{}\n{doc}// The normal's fifth sample, at p, found it (`scene_normal`).\n\
+            "{}\n{doc}// The normal found it at p before its samples (`scene_normal`).\n\
              fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n",
             main.replace(NORMAL_CALL, "scene_normal(round(q / h) * h, h, p)")
         )
@@ -701,10 +699,10 @@ mod tests {
         }
     }
 
-    /// For a union read as data, the tetrahedron normal finds the material's instance in a
-    /// fifth trip of its loop, at the point the entry point passes (the march's end), and
-    /// `end_leaf` reads it; the other normals sample through the list and leave the material
-    /// a call of its own. Were the texts rewritten here written differently, the shader
+    /// For a union read as data, the tetrahedron normal finds the material's instance at the
+    /// point the entry point passes (the march's end) before its samples, which take that
+    /// instance alone, and `end_leaf` reads it; the other normals sample through the list and
+    /// leave the material a call of its own. Were the texts rewritten here written differently, the shader
     /// would not build (`end_leaf` reads a leaf nothing sets): so each must be there.
     #[test]
     fn the_tetrahedron_normal_finds_the_material_of_a_union_read_as_data() {
@@ -713,7 +711,9 @@ mod tests {
         assert_eq!(parts::MAIN.matches(NORMAL_CALL).count(), 1);
         let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron);
         assert!(tetrahedron.contains("end: vec3<f32>"));
-        assert!(tetrahedron.contains("ray_end_leaf = near.leaf;"));
+        assert!(tetrahedron.contains("let leaf = normal_nearest(end).leaf;"));
+        assert!(tetrahedron.contains("ray_end_leaf = leaf;"));
+        assert!(tetrahedron.contains("normal_sample(p + k[i] * h, leaf)"));
         assert_eq!(tetrahedron.matches("normal_nearest(").count(), 1);
         assert!(!tetrahedron.contains("scene_distance("));
         let main = end_leaf(parts::MAIN, Normals::Tetrahedron);

@@ -89,7 +89,7 @@ def main():
     print(
         f"{len(leaves)} instances, {dims[0]}x{dims[1]}x{dims[2]} cells of {side:.3f}, margin "
         f"{margin:.3f}: {len(busy)} hold instances, {sum(busy) / max(len(busy), 1):.2f} each on "
-        f"average, {max(busy)} at most",
+        f"average, {max(busy, default=0)} at most",
         file=sys.stderr,
     )
 

@@ -3,7 +3,9 @@
 
 For each block of pixels (8x8 by default, `SDFC_TILE=WxH`), the CPU lists the instances
 whose padded boxes (the padding `ray_start` gives them) meet the frustum of the block's four
-corner rays, in the hierarchy's order, as a pass of the device could before the frame. Each
+corner rays, in the hierarchy's order, as a pass of the device could before the frame (the
+padding of `epsilon: pixel`, the default, without `march_threshold`'s floor of 2.4e-7 t,
+which only matters far from the origin: other scenes may lose boxes). Each
 ray then makes its own list, as `ray_start` does, from its block's candidates instead of a
 walk of the whole hierarchy; the march, the normal and the material are unchanged. (The
 frustum test is conservative, so every box a ray passes is among its block's candidates and
@@ -52,7 +54,8 @@ def candidates(c, nodes, x0, y0, x1, y1, w, h):
     i = 0
     while i < len(nodes):
         centre, skip, half, leaf = nodes[i]
-        # `ray_start`'s padding: a quarter of the threshold at the box's far side, and 1e-3.
+        # `ray_start`'s padding with `epsilon: pixel`: a quarter of the threshold at the box's
+        # far side, and 1e-3.
         far = math.dist(ro, centre) + math.sqrt(sum(v * v for v in half))
         padded = [v + 0.25 * 0.5 * pixel * far + 1e-3 for v in half]
         rel = [centre[a] - ro[a] for a in range(3)]

@@ -21,7 +21,8 @@ fn march_distance(p: vec3<f32>, t: f32) -> f32 {
 }
 
 // The union's distance near the march's end (`ray_nearest`), and the instance that gives
-// it: the normal's samples and the material.
+// it: the instance nearest the end (the material's, and the one the tetrahedron normal
+// samples, `normal_sample`) and the central and forward normals' samples.
 fn normal_nearest(p: vec3<f32>) -> Nearest {
     return ray_nearest(p, 3.0e38);
 }
@@ -36,11 +37,13 @@ fn normal_distance(p: vec3<f32>) -> f32 {
 // surface is the union's within the normal's step of the end but where another instance
 // comes that close (a crease, where the union's differences would blend the two); a sample
 // through the ray's list cost a copy of the list's loop (on lavapipe every copy runs, under
-// masks), so the 300-shape grid drew 1.07x to 1.08x faster, the same pictures
-// (docs/performance.md, "The normal from the nearest instance"). Leaf 0 (no instance's
-// distance below 3e38: NaN or infinite) is read as 1, words at the data's start, so that no
-// sample reads outside the buffer; the normal is then meaningless, as the union's would be
-// (`safe_normalize` gives any such normal a direction).
+// masks), so the union drew 1.07x to 1.09x faster on lavapipe, the same pictures
+// (docs/performance.md, "The normal from the nearest instance"). Leaf 0 is rare: where the
+// walk answers at the end (`ray_walk`) and a node out of its reach gives the best distance,
+// its box's (an instance smaller than the threshold, far off), with no hint before it, or
+// where every distance is NaN or infinite. Every sample is then 0, and `safe_normalize`
+// gives the normal its fixed direction; leaf 0 is read as 1 (words at the data's start, in
+// the buffer, their value discarded), since `select` computes both of its sides.
 fn normal_sample(p: vec3<f32>, leaf: u32) -> f32 {
-    return instance_distance(p, max(leaf, 1u));
+    return select(0.0, instance_distance(p, max(leaf, 1u)), leaf != 0u);
 }

@@ -23,7 +23,8 @@ fn march_distance(p: vec3<f32>, t: f32) -> f32 {
 
 // The union's distance near the march's end: the other children's, and the instances the
 // ray's list holds there (`ray_nearest`), with the instance that gives it (0 if none is
-// nearer): the normal's samples and the material.
+// nearer): the instance nearest the end (the material's, and the one the tetrahedron normal
+// samples, `normal_sample`) and the central and forward normals' samples.
 fn normal_nearest(p: vec3<f32>) -> Nearest {
     return ray_nearest(p, rest_distance(p));
 }
@@ -35,9 +36,10 @@ fn normal_distance(p: vec3<f32>) -> f32 {
 
 // The normal's samples about the march's end (the tetrahedron's, `scene_normal`): the
 // distance of the instance nearest the end (`leaf`, from `normal_nearest` there) alone, or
-// the other children's where no instance is nearer there (leaf 0). Both are computed and one
-// kept: on lavapipe an `if` runs its body under masks whatever the lanes need, and the
-// instance's distance is cheap beside the ray's list (`shaders/instances_ends.wgsl`).
+// the other children's where no instance is nearer there (leaf 0; rarely also where the walk
+// gave a box's distance, `shaders/instances_ends.wgsl`). Both are computed and one kept: on
+// lavapipe an `if` runs its body under masks whatever the lanes need, and the instance's
+// distance is cheap beside the ray's list. Leaf 0 is read as 1, in the buffer.
 fn normal_sample(p: vec3<f32>, leaf: u32) -> f32 {
     return select(rest_distance(p), instance_distance(p, max(leaf, 1u)), leaf != 0u);
 }

@@ -132,9 +132,10 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
 // to the cut. The list is sorted by entry, so the loop stops at the first entry further than
 // the bound so far; the entries that (with all before them) ended more than a margin before
 // t are passed over from where the last step began (from the list's start when t went back),
-// and bound the step by t minus their last exit. Off the ray (the normal's and the
-// material's samples near the march's end, t = `ray_hit`) only the instances whose stretch
-// holds t are evaluated: every instance within the normal's step of the end is among them
+// and bound the step by t minus their last exit. Off the ray (near the march's end, t =
+// `ray_hit`: the instance nearest the end, for the material and the tetrahedron normal,
+// and the central and forward normals' samples) only the instances whose stretch holds t
+// are evaluated: every instance within the normal's step of the end is among them
 // (the boxes' padding is far larger than the step). From a margin before the cut on, or
 // where no listed stretch holds the march's end (a pass by an edge counted as touching it,
 // within the threshold but outside the padding), the walk over the whole hierarchy answers.
@@ -243,7 +244,8 @@ fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
 }
 
 // The union's distance near the march's end, and the instance that gives it (`ray_walk`
-// off the ray): the normal's samples and the material.
+// off the ray): the instance nearest the end (the material's, and the one the tetrahedron
+// normal samples) and the central and forward normals' samples.
 fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
     return ray_walk(p, ray_hit, below, false);
 }

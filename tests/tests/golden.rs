@@ -389,7 +389,7 @@ fn instances_union_wgsl() {
     assert!(c.wgsl.contains("normal_sample(p + k[i] * h, leaf)"));
     assert!(c
         .wgsl
-        .contains("return instance_distance(p, max(leaf, 1u));"));
+        .contains("select(0.0, instance_distance(p, max(leaf, 1u)), leaf != 0u)"));
     assert!(c.wgsl.contains("return ray_end_leaf;"));
     // Without the option, the same scene is code.
     let code = compile("instances_union", &src, &Options::default());

@@ -23,7 +23,9 @@ pub struct View<'a> {
     pub shadow: [Slab; 3],
     /// Whether the union is read as data (`shaders/instances_rays.wgsl`): each march lists
     /// the instances its ray passes and samples `march_distance`, and the normals sample
-    /// `normal_distance` near the march's end (shadows and AO keep `scene_distance`).
+    /// near the march's end, the central and forward ones `normal_distance`, the
+    /// tetrahedron the nearest instance (`normal_sample`); shadows and AO keep
+    /// `scene_distance`.
     pub ray_lists: bool,
     /// Whether the scene's distance is trusted never to exceed the true distance
     /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
@@ -203,7 +205,7 @@ const NORMAL_CALL: &str = "scene_normal(round(q / h) * h, h)";
 /// for the material (`end_leaf`; one `normal_nearest` for both instead of two drew the
 /// 300-shape grid 1.04x to 1.08x faster on lavapipe, which runs every inlined copy of the
 /// list's loop under masks), and samples that instance's distance alone (`normal_sample` in
-/// `shaders/instances_ends.wgsl`: 1.07x to 1.08x more, the same pictures; docs/performance.md,
+/// `shaders/instances_ends.wgsl`: 1.07x to 1.09x more, the same pictures; docs/performance.md,
 /// "The normal from the nearest instance").
 fn normal_listed(part: &str, normals: Normals) -> String {
     if normals == Normals::Tetrahedron {
@@ -674,7 +676,7 @@ mod tests {
     /// differently, its march would silently keep the isotropic bound (`scene_distance_ray`)
     /// or walk the whole hierarchy at every step (the ray's list of a union read as data).
     /// And each difference normal samples `scene_distance(p + ...)`, which `emit` rewrites
-    /// to `normal_distance` for the list.
+    /// for the list (`normal_listed`).
     #[test]
     fn every_ray_sampling_part_is_rewritten() {
         for part in [parts::REFINE, parts::MARCH_TWO_LOOPS, parts::MARCH_MERGED] {
@@ -702,8 +704,9 @@ mod tests {
     /// For a union read as data, the tetrahedron normal finds the material's instance at the
     /// point the entry point passes (the march's end) before its samples, which take that
     /// instance alone, and `end_leaf` reads it; the other normals sample through the list and
-    /// leave the material a call of its own. Were the texts rewritten here written differently, the shader
-    /// would not build (`end_leaf` reads a leaf nothing sets): so each must be there.
+    /// leave the material a call of its own. Were the texts rewritten here written
+    /// differently, the shader would not build (`end_leaf` reads a leaf nothing sets): so
+    /// each must be there.
     #[test]
     fn the_tetrahedron_normal_finds_the_material_of_a_union_read_as_data() {
         assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_HEAD));

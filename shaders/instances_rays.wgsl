@@ -58,12 +58,30 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
     var cut = 3.0e38;
     let end = scene_data[0].w;
     var i = 0u;
+    // A camera ray whose block's candidates were made (`shaders/instances_blocks.wgsl`)
+    // takes them, each a leaf, in the walk's order, instead of the walk's nodes: one loop
+    // either way, so that its body is inlined once.
+    var from_block = ray_primary && ray_slot != NO_BLOCK;
+    ray_primary = false;
+    var e = 0u;
+    var e_end = 0u;
+    if from_block {
+        e_end = u32(aov_out[ray_slot].x);
+        from_block = e_end <= BLOCK_CANDIDATES;
+    }
     loop {
-        if i >= end {
+        var node = i;
+        if from_block {
+            if e >= e_end {
+                break;
+            }
+            node = block_candidate(ray_slot, e);
+            e = e + 1u;
+        } else if i >= end {
             break;
         }
-        let a = scene_data[2u * i];
-        let b = scene_data[2u * i + 1u];
+        let a = scene_data[2u * node];
+        let b = scene_data[2u * node + 1u];
         let c = bitcast<vec3<f32>>(a.xyz);
         let half = bitcast<vec3<f32>>(b.xyz);
         let h = half + 0.25 * march_threshold(length(c - ro) + length(half), pixel) + 1e-3;
@@ -83,7 +101,7 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
             continue;
         }
         if b.w == 0u {
-            i = i + 1u;
+            i = node + 1u;
             continue;
         }
         ray_in[n] = lo;

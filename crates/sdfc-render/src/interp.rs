@@ -230,8 +230,12 @@ impl Renderer {
         }
         let variant = Variant::of(code);
         let pipeline = self.pipeline(Kind::Interpreted, interpreter_wgsl(unroll, variant)?)?;
+        let passes = crate::render::Passes {
+            march: &pipeline.pipeline,
+            blocks: None,
+        };
         let mut frame = self.dispatch(
-            &pipeline.pipeline,
+            passes,
             &self.interp_bind_layout,
             &data.frame,
             &[

@@ -31,7 +31,14 @@ pub(crate) struct CachedPipeline {
     /// (`sdfc_wgsl::screen::reads_first_tile`), so that part of the image may be dispatched:
     /// looked up once per text, not at every frame.
     pub(crate) tiled: bool,
+    /// The pass that makes each block of pixels' candidates for its camera rays' lists
+    /// (`blocks_main`, `shaders/instances_blocks.wgsl`), where a shader reading its union as
+    /// data has it: run before each frame.
+    pub(crate) blocks: Option<wgpu::ComputePipeline>,
 }
+
+/// The entry point of the blocks' pass, where a shader has one.
+const BLOCKS_ENTRY: &str = "blocks_main";
 
 /// One shader text's place in the pipeline cache. Its lock is held while the pipeline is
 /// built, so a second thread asking for the same text waits for that build instead of
@@ -124,16 +131,23 @@ impl Pipelines {
             return Ok(p.clone());
         }
         // Nothing built yet, or an earlier build failed: build it (again) here.
+        let (pipeline, blocks) = self.build(kind, wgsl)?;
         let p = Arc::new(CachedPipeline {
-            pipeline: self.build(kind, wgsl)?,
+            pipeline,
             tiled: sdfc_wgsl::screen::reads_first_tile(wgsl),
+            blocks,
         });
         *built = Some(p.clone());
         Ok(p)
     }
 
-    /// Compiles one compute pipeline, its errors caught.
-    fn build(&self, kind: Kind, wgsl: &str) -> Result<wgpu::ComputePipeline, RenderError> {
+    /// Compiles one compute pipeline, and the blocks' pass of a shader that reads its union
+    /// as data and has one, their errors caught.
+    fn build(
+        &self,
+        kind: Kind,
+        wgsl: &str,
+    ) -> Result<(wgpu::ComputePipeline, Option<wgpu::ComputePipeline>), RenderError> {
         let (layout, entry) = match kind {
             Kind::Render => (&self.layouts[0], "main"),
             Kind::Eval => (&self.layouts[1], "eval_main"),
@@ -164,17 +178,21 @@ impl Pipelines {
                     (m.message.clone(), text)
                 })
                 .collect();
-            let pipeline = self
-                .device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("sdfc scene"),
-                    layout: Some(layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
-            (pipeline, messages)
+            let create = |entry: &str| {
+                self.device
+                    .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some("sdfc scene"),
+                        layout: Some(layout),
+                        module: &module,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
+            };
+            let pipeline = create(entry);
+            let has_blocks = wgsl.contains(&format!("fn {BLOCKS_ENTRY}("));
+            let blocks = (kind == Kind::RenderData && has_blocks).then(|| create(BLOCKS_ENTRY));
+            ((pipeline, blocks), messages)
         }));
         let mut errors = scopes.pop();
         let pipeline = match built {

@@ -11,6 +11,16 @@ use std::time::{Duration, Instant};
 /// Bytes per pixel of the colour buffer (one packed `u32`) and of the AOV buffer (two `vec4`).
 const COLOR_BYTES: u64 = 4;
 const AOV_BYTES: u64 = 32;
+/// The blocks' pass (`shaders/instances_blocks.wgsl`): a block's side in pixels, the bytes of
+/// its slot (`BLOCK_VEC4S` vec4s) and the bit of `frame.flags` that says the pass ran.
+const BLOCK: u32 = 4;
+const BLOCK_SLOT_BYTES: u64 = 5 * 16;
+const BLOCKS_FLAG: u32 = 2;
+/// The fewest 8x8 tiles a frame's dispatch covers for the blocks' pass to run: on lavapipe
+/// the second dispatch costs about 0.1 ms whatever its size, and the 300-shape grid seen
+/// from afar at 160x120 (a few dozen tiles) drew at 0.82x with it, at 320x240 1.02x
+/// (docs/performance.md, "Each ray's list from its block's candidates").
+const BLOCKS_MIN_TILES: u64 = 64;
 /// The shader's workgroup size in x and y.
 const GROUP: u32 = 8;
 
@@ -110,6 +120,13 @@ impl Timer {
     }
 }
 
+/// A frame's compute passes: the march over the image, and before it the pass that makes
+/// each block of pixels' candidates for a union read as data, where it runs.
+pub(crate) struct Passes<'a> {
+    pub(crate) march: &'a wgpu::ComputePipeline,
+    pub(crate) blocks: Option<&'a wgpu::ComputePipeline>,
+}
+
 /// The data a shader reads at binding 3, if it reads any (`sdfc_wgsl::Compiled::data`).
 pub(crate) fn as_data(data: &[u8]) -> Option<&[u8]> {
     (!data.is_empty()).then_some(data)
@@ -187,36 +204,64 @@ impl Renderer {
         let pipeline = self.pipeline(kind, wgsl)?;
         // Only the tiles whose rays can meet the scene's bounds, where that is known.
         let plan = tiles::Dispatch::plan(program, pipeline.tiled, opts, (gx, gy));
-        let frame = params::frame_bytes(plan.header, &params);
-        let mut out = self.dispatch(
-            &pipeline.pipeline,
-            layout,
-            &frame,
-            &inputs,
-            opts,
-            plan.groups,
-        )?;
+        // The blocks' pass where the frame is large enough to pay for a second dispatch.
+        let (tx, ty) = plan.groups;
+        let blocks = pipeline
+            .blocks
+            .as_ref()
+            .filter(|_| tx as u64 * ty as u64 >= BLOCKS_MIN_TILES);
+        let mut header = plan.header;
+        if blocks.is_some() {
+            // Bit 1: the blocks' candidates are made before the frame.
+            header[3] |= BLOCKS_FLAG;
+        }
+        let frame = params::frame_bytes(header, &params);
+        let passes = Passes {
+            march: &pipeline.pipeline,
+            blocks,
+        };
+        let mut out = self.dispatch(passes, layout, &frame, &inputs, opts, plan.groups)?;
         plan.finish(&mut out);
         Ok(out)
     }
 
     /// Runs a render-interface pipeline over the image and reads the results back: the
     /// frame buffer at binding 0 (read-only storage), colour and AOVs at 1 and 2, `inputs`
-    /// (read-only storage) from binding 3 on.
+    /// (read-only storage) from binding 3 on. `blocks`, the pass that makes each block of
+    /// 4x4 pixels' candidates for a union read as data (`shaders/instances_blocks.wgsl`), runs
+    /// first over the same tiles, its slots after the AOVs in the buffer at binding 2.
     pub(crate) fn dispatch(
         &self,
-        pipeline: &wgpu::ComputePipeline,
+        passes: Passes,
         layout: &wgpu::BindGroupLayout,
         frame_bytes: &[u8],
         inputs: &[(&str, &[u8])],
         opts: &RenderOptions,
         (gx, gy): (u32, u32),
     ) -> Result<Frame, RenderError> {
+        let Passes { march, blocks } = passes;
         // A lost device fails at once, before any work is recorded on it.
         self.check_health()?;
         let pixels = opts.width as u64 * opts.height as u64;
         let color_size = pixels * COLOR_BYTES;
         let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
+        let slots = match blocks {
+            Some(_) => {
+                let across = opts.width.div_ceil(BLOCK) as u64;
+                let down = opts.height.div_ceil(BLOCK) as u64;
+                across * down * BLOCK_SLOT_BYTES
+            }
+            None => 0,
+        };
+        if aov_size + slots > self.max_buffer_bytes() {
+            return Err(RenderError::ImageSize(format!(
+                "a {}x{} image's AOVs and blocks need {} KiB in one buffer, and this device allows {} KiB",
+                opts.width,
+                opts.height,
+                (aov_size + slots) >> 10,
+                self.max_buffer_bytes() >> 10
+            )));
+        }
 
         let scopes = Scopes::push(&self.device);
         let frame = upload(self, "sdfc frame", frame_bytes, wgpu::BufferUsages::STORAGE);
@@ -225,7 +270,7 @@ impl Renderer {
             .map(|(label, bytes)| upload(self, label, bytes, wgpu::BufferUsages::STORAGE))
             .collect();
         let color = storage(&self.device, "sdfc colour", color_size);
-        let aov = storage(&self.device, "sdfc aovs", aov_size);
+        let aov = storage(&self.device, "sdfc aovs", aov_size + slots);
         let color_read = readback(&self.device, "sdfc colour read", color_size);
         let aov_read = opts
             .aovs
@@ -266,8 +311,13 @@ impl Renderer {
                 label: Some("sdfc march"),
                 timestamp_writes: timer.as_ref().map(|t| t.writes()),
             });
-            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
+            if let Some(blocks) = blocks {
+                // One invocation a block, 8x8 blocks a workgroup: 4x4 of the frame's tiles.
+                pass.set_pipeline(blocks);
+                pass.dispatch_workgroups(gx.div_ceil(4), gy.div_ceil(4), 1);
+            }
+            pass.set_pipeline(march);
             pass.dispatch_workgroups(gx, gy, 1);
         }
         encoder.copy_buffer_to_buffer(&color, 0, &color_read, 0, color_size);

@@ -18,6 +18,8 @@ use std::fmt::Write;
 const WALK: &str = include_str!("../../../shaders/instances.wgsl");
 /// The march's lists of the instances each ray passes.
 const RAYS: &str = include_str!("../../../shaders/instances_rays.wgsl");
+/// The pass that lists each block of pixels' candidates for its camera rays' lists.
+const BLOCKS: &str = include_str!("../../../shaders/instances_blocks.wgsl");
 /// `scene_distance` and `scene_material` over a union of instances alone.
 const ENDS: &str = include_str!("../../../shaders/instances_ends.wgsl");
 /// The same over a mixed union: the walk beside the other children's code.
@@ -224,6 +226,8 @@ impl Plan {
         s += WALK;
         s += "\n";
         s += RAYS;
+        s += "\n";
+        s += BLOCKS;
         s += "\n";
         s += if self.rest.is_some() {
             ENDS_MIXED

@@ -144,7 +144,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     let main = analytic_surface_normal(parts::MAIN, analytic);
     if view.ray_lists {
-        s += &end_leaf(&main, scene.render.normals);
+        s += &end_leaf(&main_blocks(&main), scene.render.normals);
     } else {
         s += &main;
     }
@@ -226,6 +226,27 @@ fn normal_listed(part: &str, normals: Normals) -> String {
     } else {
         part.replace("scene_distance(", "normal_distance(")
     }
+}
+
+/// The entry point's lines after which a union read as data finds its block's candidates
+/// (`ray_blocks`) and marks each sample's march a camera ray's (`ray_primary`); a test checks
+/// both are there.
+const MAIN_FRAME: &str = "    load_frame();\n";
+const MAIN_RAY: &str = "        let rd = camera_ray(vec2<f32>(gid) + offset, fsize);\n";
+
+/// The entry point's part for a union read as data: each camera ray makes its list from its
+/// block's candidates where the pass made them (`shaders/instances_blocks.wgsl`).
+fn main_blocks(main: &str) -> String {
+    main.replacen(
+        MAIN_FRAME,
+        &format!("{MAIN_FRAME}    ray_blocks(gid);\n"),
+        1,
+    )
+    .replacen(
+        MAIN_RAY,
+        &format!("{MAIN_RAY}        ray_primary = true;\n"),
+        1,
+    )
 }
 
 /// The entry point's part for a union read as data, and `end_leaf`, the leaf word of the

@@ -1,0 +1,167 @@
+//! The blocks' pass of a union read as data (`shaders/instances_blocks.wgsl`): each camera
+//! ray's list, made from its 4x4 block's candidates, draws the frame the walk of the whole
+//! hierarchy draws, bit for bit (colour, depth, normal, steps), for cameras near the origin
+//! and 1e5 from it, looking down, along the rows and from afar, with antialiasing and
+//! reflections (whose rays walk); and the frame reads what the pass wrote.
+
+mod common;
+
+use common::renderer;
+use sdfc_render::{Frame, RenderOptions, Renderer};
+use sdfc_wgsl::Options;
+
+/// 12 x 9 = 108 of the frame's 8x8 tiles: enough for the renderer to run the pass (it skips
+/// frames of fewer than 64 tiles), where the scene fills the view.
+const W: u32 = 96;
+const H: u32 = 72;
+
+/// The generated grid of `n` shapes seen from `camera` (position, target), the whole scene
+/// moved by `offset` along x with its camera, with `render` settings.
+fn grid(n: usize, camera: ([f64; 3], [f64; 3]), offset: f64, render: &str) -> String {
+    let src = sdfc_tests::grid_scene(n);
+    let far = "camera { position: [0, 20, 60], target: [0, 0, 0]";
+    assert!(src.contains(far), "the generated grid's camera has changed");
+    let ((p, t), o) = (camera, offset);
+    let camera = format!(
+        "camera {{ position: [{}, {}, {}], target: [{}, {}, {}]",
+        p[0] + o,
+        p[1],
+        p[2],
+        t[0] + o,
+        t[1],
+        t[2]
+    );
+    format!(
+        "{}render {{ {render} }}\n",
+        src.replace(far, &camera)
+            .replace("scene = union(", "scene = translate(union(")
+            .replace("\n);\n", &format!("\n), [{o}, 0, 0]);\n"))
+    )
+}
+
+fn data(name: &str, src: &str) -> sdfc_wgsl::Compiled {
+    let opts = Options {
+        instances: sdfc_wgsl::Instances::Always,
+        ..Options::default()
+    };
+    let c = sdfc_wgsl::compile(src, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(
+        !c.data.is_empty(),
+        "{name}: the union was not emitted as data"
+    );
+    assert!(
+        c.wgsl.contains("fn blocks_main("),
+        "{name}: no blocks' pass"
+    );
+    c
+}
+
+fn frame(r: &Renderer, c: &sdfc_wgsl::Compiled, wgsl: &str) -> Frame {
+    let opts = RenderOptions {
+        aovs: true,
+        ..RenderOptions::sized(W, H)
+    };
+    r.render_wgsl_with_data(c.program(), wgsl, &c.data, &opts)
+        .expect("renders")
+}
+
+/// The shader's text without its blocks' pass: the renderer finds no `blocks_main` and
+/// leaves bit 1 of `frame.flags` clear, so every ray walks.
+fn without_pass(wgsl: &str) -> String {
+    wgsl.replace("fn blocks_main(", "fn blocks_unused(")
+}
+
+/// How many pixels hit a surface (a miss's depth is infinite).
+fn hits(f: &Frame) -> usize {
+    f.aovs
+        .as_ref()
+        .unwrap()
+        .depth
+        .iter()
+        .filter(|d| d.is_finite())
+        .count()
+}
+
+/// How many pixels of `a` and `b` differ in colour or in any AOV's bits.
+fn differing(a: &Frame, b: &Frame) -> usize {
+    let (fa, fb) = (a.aovs.as_ref().unwrap(), b.aovs.as_ref().unwrap());
+    (0..(W * H) as usize)
+        .filter(|&i| {
+            a.rgba[4 * i..4 * i + 4] != b.rgba[4 * i..4 * i + 4]
+                || fa.depth[i].to_bits() != fb.depth[i].to_bits()
+                || fa.steps[i] != fb.steps[i]
+                || (0..3).any(|k| fa.normal[i][k].to_bits() != fb.normal[i][k].to_bits())
+        })
+        .count()
+}
+
+fn check(name: &str, src: &str) {
+    let Some(r) = renderer() else { return };
+    let c = data(name, src);
+    let with = frame(r, &c, &c.wgsl);
+    let without = frame(r, &c, &without_pass(&c.wgsl));
+    let hits = hits(&with);
+    assert!(
+        hits > (W * H) as usize / 4 && hits < (W * H) as usize,
+        "{name}: the grid fills too little or all of the view ({hits} hits)"
+    );
+    assert_eq!(
+        differing(&with, &without),
+        0,
+        "{name}: the blocks' lists changed the frame"
+    );
+}
+
+#[test]
+fn close_by_the_same_frame_as_the_walk() {
+    check(
+        "close by",
+        &grid(120, ([-1.0, 4.0, 6.0], [-2.0, 1.5, -2.0]), 0.0, ""),
+    );
+}
+
+#[test]
+fn close_by_far_from_the_origin_the_same_frame_as_the_walk() {
+    check(
+        "1e5 out",
+        &grid(120, ([-1.0, 4.0, 6.0], [-2.0, 1.5, -2.0]), 1e5, ""),
+    );
+}
+
+#[test]
+fn looking_down_with_antialiasing_the_same_frame_as_the_walk() {
+    let src = grid(
+        300,
+        ([-2.0, 14.0, 2.0], [-2.5, 0.0, -3.0]),
+        0.0,
+        "antialias: 2",
+    );
+    check("down, antialiased", &src);
+}
+
+#[test]
+fn along_the_rows_with_reflections_the_same_frame_as_the_walk() {
+    // Rays along a row pass more boxes than a list holds (its cut and the walk beyond it),
+    // and the blue tori's reflections march rays that walk.
+    let src = grid(
+        300,
+        ([-12.0, 0.5, 0.3], [3.0, 0.2, -0.2]),
+        0.0,
+        "reflections: 1",
+    );
+    check("along the rows", &src);
+}
+
+/// The frame reads the pass's candidates: with every block's count written as 0 the camera
+/// rays list nothing and miss, where the walk hits.
+#[test]
+fn the_frame_reads_the_candidates() {
+    let Some(r) = renderer() else { return };
+    let src = grid(120, ([-1.0, 4.0, 6.0], [-2.0, 1.5, -2.0]), 0.0, "");
+    let c = data("emptied", &src);
+    let written = "    aov_out[slot].x = f32(count);";
+    assert_eq!(c.wgsl.matches(written).count(), 1);
+    let emptied = c.wgsl.replace(written, "    aov_out[slot].x = 0.0;");
+    assert!(hits(&frame(r, &c, &c.wgsl)) > (W * H) as usize / 4);
+    assert_eq!(hits(&frame(r, &c, &emptied)), 0);
+}

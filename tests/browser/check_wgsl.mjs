@@ -61,18 +61,21 @@ for (const file of files(args)) {
   const moduleError = await device.popErrorScope();
   let ok = !moduleError && !info.messages.some((m) => m.type === 'error');
   if (moduleError && messages.length === 0) messages.push(`error: ${moduleError.message}`);
-  if (ok && code.includes('@compute')) {
+  // Every compute entry point gets a pipeline (a union read as data has two: `main` and the
+  // blocks' pass `blocks_main`), each named, as a module of several needs.
+  const entries = ok ? [...code.matchAll(/@compute[^{]*?fn\s+(\w+)\s*\(/g)].map((m) => m[1]) : [];
+  for (const entryPoint of entries) {
     device.pushErrorScope('validation');
     try {
-      await device.createComputePipelineAsync({ layout: 'auto', compute: { module } });
+      await device.createComputePipelineAsync({ layout: 'auto', compute: { module, entryPoint } });
     } catch (e) {
       ok = false;
-      messages.push(`error: pipeline: ${e.message}`);
+      messages.push(`error: pipeline ${entryPoint}: ${e.message}`);
     }
     const pipelineError = await device.popErrorScope();
     if (pipelineError) {
       ok = false;
-      messages.push(`error: pipeline: ${pipelineError.message}`);
+      messages.push(`error: pipeline ${entryPoint}: ${pipelineError.message}`);
     }
   }
   if (!ok) failed++;

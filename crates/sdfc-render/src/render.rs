@@ -18,7 +18,7 @@ const BLOCK_SLOT_BYTES: u64 = 5 * 16;
 const BLOCKS_FLAG: u32 = 2;
 /// The fewest 8x8 tiles a frame's dispatch covers for the blocks' pass to run: on lavapipe
 /// the second dispatch costs about 0.1 ms whatever its size, and the 300-shape grid seen
-/// from afar at 160x120 (a few dozen tiles) drew at 0.82x with it, at 320x240 1.02x
+/// from afar at 160x120 (a few dozen tiles) drew at 0.82x with it, at 320x240 1.15x
 /// (docs/performance.md, "Each ray's list from its block's candidates").
 const BLOCKS_MIN_TILES: u64 = 64;
 /// The shader's workgroup size in x and y.
@@ -120,6 +120,13 @@ impl Timer {
     }
 }
 
+/// The bytes of the blocks' slots for an image (one slot a block of 4x4 pixels).
+fn block_slots(opts: &RenderOptions) -> u64 {
+    let across = opts.width.div_ceil(BLOCK) as u64;
+    let down = opts.height.div_ceil(BLOCK) as u64;
+    across * down * BLOCK_SLOT_BYTES
+}
+
 /// A frame's compute passes: the march over the image, and before it the pass that makes
 /// each block of pixels' candidates for a union read as data, where it runs.
 pub(crate) struct Passes<'a> {
@@ -206,10 +213,13 @@ impl Renderer {
         let plan = tiles::Dispatch::plan(program, pipeline.tiled, opts, (gx, gy));
         // The blocks' pass where the frame is large enough to pay for a second dispatch.
         let (tx, ty) = plan.groups;
-        let blocks = pipeline
-            .blocks
-            .as_ref()
-            .filter(|_| tx as u64 * ty as u64 >= BLOCKS_MIN_TILES);
+        // And where its slots fit in the AOVs' buffer (else every ray walks, as before).
+        let aov_size =
+            if opts.aovs { AOV_BYTES } else { 0 } * opts.width as u64 * opts.height as u64;
+        let blocks = pipeline.blocks.as_ref().filter(|_| {
+            tx as u64 * ty as u64 >= BLOCKS_MIN_TILES
+                && aov_size.max(32) + block_slots(opts) <= self.max_buffer_bytes()
+        });
         let mut header = plan.header;
         if blocks.is_some() {
             // Bit 1: the blocks' candidates are made before the frame.
@@ -245,23 +255,8 @@ impl Renderer {
         let pixels = opts.width as u64 * opts.height as u64;
         let color_size = pixels * COLOR_BYTES;
         let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
-        let slots = match blocks {
-            Some(_) => {
-                let across = opts.width.div_ceil(BLOCK) as u64;
-                let down = opts.height.div_ceil(BLOCK) as u64;
-                across * down * BLOCK_SLOT_BYTES
-            }
-            None => 0,
-        };
-        if aov_size + slots > self.max_buffer_bytes() {
-            return Err(RenderError::ImageSize(format!(
-                "a {}x{} image's AOVs and blocks need {} KiB in one buffer, and this device allows {} KiB",
-                opts.width,
-                opts.height,
-                (aov_size + slots) >> 10,
-                self.max_buffer_bytes() >> 10
-            )));
-        }
+        // `render_text` runs the blocks' pass only where its slots fit beside the AOVs.
+        let slots = blocks.map_or(0, |_| block_slots(opts));
 
         let scopes = Scopes::push(&self.device);
         let frame = upload(self, "sdfc frame", frame_bytes, wgpu::BufferUsages::STORAGE);

@@ -660,8 +660,8 @@ fn finish(scene: &Scene) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        analytic_surface_normal, end_leaf, normal_listed, sampled, Slab, View, NORMAL_CALL,
-        RAY_SAMPLE, TETRAHEDRON_HEAD, TETRAHEDRON_LOOP,
+        analytic_surface_normal, end_leaf, main_blocks, normal_listed, sampled, Slab, View,
+        MAIN_FRAME, MAIN_RAY, NORMAL_CALL, RAY_SAMPLE, TETRAHEDRON_HEAD, TETRAHEDRON_LOOP,
     };
     use crate::parts;
     use sdfc_ir::scene::Normals;
@@ -742,6 +742,13 @@ mod tests {
         assert!(!tetrahedron.contains("scene_distance("));
         let main = end_leaf(parts::MAIN, Normals::Tetrahedron);
         assert!(main.contains("scene_normal(round(q / h) * h, h, p)"));
+        // The entry point finds its block's candidates and marks each sample's march a
+        // camera ray's (`main_blocks`).
+        assert_eq!(parts::MAIN.matches(MAIN_FRAME).count(), 1);
+        assert_eq!(parts::MAIN.matches(MAIN_RAY).count(), 1);
+        let blocks = main_blocks(parts::MAIN);
+        assert!(blocks.contains("    load_frame();\n    ray_blocks(gid);\n"));
+        assert!(blocks.contains("fsize);\n        ray_primary = true;\n"));
         assert!(main.contains("return ray_end_leaf;"));
         for (part, normals) in [
             (parts::NORMALS_CENTRAL, Normals::Central),

@@ -34,6 +34,14 @@ fn ray_margin(t: f32) -> f32 {
     return 4.0 * march_threshold(t, ray_pixel) + 1e-4;
 }
 
+// The half size of a node's box (centre c, half size `half`) padded for rays from ro: a
+// quarter of the surface threshold at the box's far side, and 1e-3 (`ray_start`). The
+// blocks' pass pads by the same (`shaders/instances_blocks.wgsl`), so that its candidates
+// hold every box a camera ray lists.
+fn ray_padded(c: vec3<f32>, half: vec3<f32>, ro: vec3<f32>, pixel: f32) -> vec3<f32> {
+    return half + 0.25 * march_threshold(length(c - ro) + length(half), pixel) + 1e-3;
+}
+
 // Lists the instances whose boxes the ray from ro along rd passes through between t0 and
 // t1, the RAY_LIST that it enters first. Each box is padded by a quarter of the threshold at
 // its far side (and 1e-3): the marcher counts a ray that passes a surface within a tenth of
@@ -84,7 +92,7 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
         let b = scene_data[2u * node + 1u];
         let c = bitcast<vec3<f32>>(a.xyz);
         let half = bitcast<vec3<f32>>(b.xyz);
-        let h = half + 0.25 * march_threshold(length(c - ro) + length(half), pixel) + 1e-3;
+        let h = ray_padded(c, half, ro, pixel);
         let ta = (c - h - ro) * inv;
         let tb = (c + h - ro) * inv;
         let tn = min(ta, tb);

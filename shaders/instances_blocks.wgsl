@@ -28,12 +28,17 @@ fn block_base() -> u32 {
     return select(2u, 2u * size.x * size.y, (frame.flags & 1u) != 0u);
 }
 
+// The slot of block b (blocks counted from the image's top left corner).
+fn block_slot(b: vec2<u32>) -> u32 {
+    let across = (frame.resolution.x + BLOCK - 1u) / BLOCK;
+    return block_base() + (b.y * across + b.x) * BLOCK_VEC4S;
+}
+
 // The slot of pixel gid's block, where the pass ran (bit 1 of `frame.flags`).
 fn ray_blocks(gid: vec2<u32>) {
     ray_slot = NO_BLOCK;
     if (frame.flags & 2u) != 0u {
-        let across = (frame.resolution.x + BLOCK - 1u) / BLOCK;
-        ray_slot = block_base() + ((gid.y / BLOCK) * across + gid.x / BLOCK) * BLOCK_VEC4S;
+        ray_slot = block_slot(gid / BLOCK);
     }
 }
 
@@ -74,7 +79,7 @@ fn blocks_main(@builtin(global_invocation_id) invocation: vec3<u32>) {
         planes[k] = select(n, -n, dot(n, middle) < 0.0);
     }
     let ro = CAMERA_POSITION;
-    let slot = block_base() + (b.y * blocks.x + b.x) * BLOCK_VEC4S;
+    let slot = block_slot(b);
     var count = 0u;
     let end = scene_data[0].w;
     var i = 0u;

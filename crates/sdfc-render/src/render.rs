@@ -120,6 +120,16 @@ impl Timer {
     }
 }
 
+/// The bytes of the AOVs' buffer before any blocks' slots: the AOVs where they are written,
+/// else 32 (a buffer may not be empty), where `block_base` in the shader starts the slots.
+fn aov_bytes(opts: &RenderOptions) -> u64 {
+    if opts.aovs {
+        opts.width as u64 * opts.height as u64 * AOV_BYTES
+    } else {
+        32
+    }
+}
+
 /// The bytes of the blocks' slots for an image (one slot a block of 4x4 pixels).
 fn block_slots(opts: &RenderOptions) -> u64 {
     let across = opts.width.div_ceil(BLOCK) as u64;
@@ -214,11 +224,9 @@ impl Renderer {
         // The blocks' pass where the frame is large enough to pay for a second dispatch.
         let (tx, ty) = plan.groups;
         // And where its slots fit in the AOVs' buffer (else every ray walks, as before).
-        let aov_size =
-            if opts.aovs { AOV_BYTES } else { 0 } * opts.width as u64 * opts.height as u64;
         let blocks = pipeline.blocks.as_ref().filter(|_| {
             tx as u64 * ty as u64 >= BLOCKS_MIN_TILES
-                && aov_size.max(32) + block_slots(opts) <= self.max_buffer_bytes()
+                && aov_bytes(opts) + block_slots(opts) <= self.max_buffer_bytes()
         });
         let mut header = plan.header;
         if blocks.is_some() {
@@ -254,7 +262,7 @@ impl Renderer {
         self.check_health()?;
         let pixels = opts.width as u64 * opts.height as u64;
         let color_size = pixels * COLOR_BYTES;
-        let aov_size = if opts.aovs { pixels * AOV_BYTES } else { 32 };
+        let aov_size = aov_bytes(opts);
         // `render_text` runs the blocks' pass only where its slots fit beside the AOVs.
         let slots = blocks.map_or(0, |_| block_slots(opts));
 

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{compile, renderer};
+use common::{compile, hits, renderer};
 use sdfc_render::output::{self, npy_bytes};
 use sdfc_render::{AovKind, Frame, RenderError, RenderOptions, Renderer};
 
@@ -536,15 +536,6 @@ fn a_shader_reads_the_data_given_at_binding_3() {
         from_data, base.wgsl,
         "the sphere's shader has changed: update the test"
     );
-    let hits = |f: &Frame| {
-        f.aovs
-            .as_ref()
-            .unwrap()
-            .depth
-            .iter()
-            .filter(|d| d.is_finite())
-            .count()
-    };
     for radius in [1.0f32, 0.5] {
         let frame = r
             .render_wgsl_with_data(base.program(), &from_data, &radius.to_le_bytes(), &opts)

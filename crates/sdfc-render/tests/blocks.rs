@@ -8,9 +8,8 @@
 
 mod common;
 
-use common::renderer;
+use common::{compile_as_data, hits, renderer};
 use sdfc_render::{Frame, RenderOptions, Renderer};
-use sdfc_wgsl::Options;
 
 /// 12 x 9 = 108 of the frame's 8x8 tiles: enough for the renderer to run the pass (it skips
 /// frames of fewer than 64 tiles), where the scene fills the view.
@@ -42,15 +41,7 @@ fn grid(n: usize, camera: ([f64; 3], [f64; 3]), offset: f64, render: &str) -> St
 }
 
 fn data(name: &str, src: &str) -> sdfc_wgsl::Compiled {
-    let opts = Options {
-        instances: sdfc_wgsl::Instances::Always,
-        ..Options::default()
-    };
-    let c = sdfc_wgsl::compile(src, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-    assert!(
-        !c.data.is_empty(),
-        "{name}: the union was not emitted as data"
-    );
+    let c = compile_as_data(name, src);
     assert!(
         c.wgsl.contains("fn blocks_main("),
         "{name}: no blocks' pass"
@@ -93,17 +84,6 @@ fn emptied(wgsl: &str) -> String {
     let written = "    aov_out[slot].x = f32(count);";
     assert_eq!(wgsl.matches(written).count(), 1);
     wgsl.replace(written, "    aov_out[slot].x = 0.0;")
-}
-
-/// How many pixels hit a surface (a miss's depth is infinite).
-fn hits(f: &Frame) -> usize {
-    f.aovs
-        .as_ref()
-        .unwrap()
-        .depth
-        .iter()
-        .filter(|d| d.is_finite())
-        .count()
 }
 
 /// How many pixels of `a` and `b` differ in colour or in any AOV's bits.

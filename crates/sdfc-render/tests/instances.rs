@@ -6,7 +6,7 @@
 mod common;
 
 use common::against_reference::parted;
-use common::{compile, compile_with, renderer};
+use common::{compile, compile_as_data, compile_with, renderer};
 use sdfc_reference::metrics::{self, GpuFrame, Metrics};
 use sdfc_render::{Frame, RenderOptions, Renderer};
 use sdfc_wgsl::interp::encode_instances::encode_as_data;
@@ -29,19 +29,6 @@ fn close_grid(n: usize, offset: f64) -> String {
     close
         .replace("scene = union(", "scene = translate(union(")
         .replace("\n);\n", &format!("\n), [{offset}, 0, 0]);\n"))
-}
-
-fn with_instances(name: &str, src: &str) -> sdfc_wgsl::Compiled {
-    let opts = Options {
-        instances: sdfc_wgsl::Instances::Always,
-        ..Options::default()
-    };
-    let c = sdfc_wgsl::compile(src, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-    assert!(
-        !c.data.is_empty(),
-        "{name}: the union was not emitted as data"
-    );
-    c
 }
 
 const W: u32 = 64;
@@ -106,7 +93,7 @@ fn check_allowing(name: &str, src: &str, edges: usize) {
         },
     );
     let reference = sdfc_reference::render(code.program(), &sdfc_reference::Options::sized(W, H));
-    let data = with_instances(name, src);
+    let data = compile_as_data(name, src);
     let (code_frame, c) = against(r, Form::Specialised(&code), &reference);
     let (data_frame, d) = against(r, Form::Specialised(&data), &reference);
     check_against(
@@ -241,7 +228,7 @@ fn mixed_grid(offset: f64) -> String {
 fn a_mixed_union_as_data_draws_as_code_does() {
     for (name, offset) in [("mixed grid_120", 0.0), ("mixed grid_120 at 1e5", 1e5)] {
         let src = mixed_grid(offset);
-        let c = with_instances(name, &src);
+        let c = compile_as_data(name, &src);
         assert!(c.wgsl.contains("fn rest_distance("), "{name}: not mixed");
         check(name, &src);
     }
@@ -260,7 +247,7 @@ fn a_mixed_union_as_data_draws_with_every_shading_feature() {
         "render { relaxation: 1.6, reflections: 2, shadows: hard, \
          ao: ao(samples: 4, step: 0.08, strength: 1.0, falloff: 0.7) }\nscene = translate(",
     );
-    let c = with_instances("shaded", &src);
+    let c = compile_as_data("shaded", &src);
     assert!(c.wgsl.contains("fn rest_distance(") && c.wgsl.contains("fn march_listed("));
     // Four edges: the relaxed marcher's path (docs/performance.md, "Relaxation") parts the
     // two forms on 3 pixels at 64x48, one of them farther from the reference in the data

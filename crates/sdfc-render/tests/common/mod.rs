@@ -69,6 +69,32 @@ pub fn compile_with(name: &str, source: &str, opts: &sdfc_wgsl::Options) -> sdfc
     }
 }
 
+/// [`compile`] with its root union read as data at any size (`Instances::Always`), failing
+/// the test where it is not.
+pub fn compile_as_data(name: &str, source: &str) -> sdfc_wgsl::Compiled {
+    let opts = sdfc_wgsl::Options {
+        instances: sdfc_wgsl::Instances::Always,
+        ..sdfc_wgsl::Options::default()
+    };
+    let c = compile_with(name, source, &opts);
+    assert!(
+        !c.data.is_empty(),
+        "{name}: the union was not emitted as data"
+    );
+    c
+}
+
+/// How many pixels of a frame with AOVs hit a surface (a miss's depth is infinite).
+pub fn hits(f: &Frame) -> usize {
+    f.aovs
+        .as_ref()
+        .expect("a frame with AOVs")
+        .depth
+        .iter()
+        .filter(|d| d.is_finite())
+        .count()
+}
+
 /// Reads and compiles a scene file (path relative to the repository root).
 pub fn compile_file(rel: &str) -> sdfc_wgsl::Compiled {
     let path = root().join(rel);

@@ -8,6 +8,7 @@
 // marcher on both sides), where the walk at every step ran at 0.43x from close by (docs/performance.md,
 // "Culling per ray").
 const RAY_LIST: u32 = 32u;
+const NO_RESUME: u32 = 0xffffffffu;
 
 // The ray's list: leaf words, entry and exit t, and the largest exit so far in the list.
 var<private> ray_leaf: array<u32, 32>;
@@ -24,6 +25,8 @@ var<private> ray_cut: f32;
 var<private> ray_k0: u32;
 var<private> ray_t0: f32;
 var<private> ray_hit: f32;
+// The first node a full list left out (`ray_start`'s walk resumes there), or NO_RESUME.
+var<private> ray_resume: u32;
 // The leaf word of the instance nearest where the march ended (`end_leaf`).
 var<private> ray_end_leaf: u32;
 
@@ -53,23 +56,28 @@ fn ray_padded(c: vec3<f32>, half: vec3<f32>, ro: vec3<f32>, pixel: f32) -> vec3<
 // needs too (no point of the subtree is farther), so a subtree whose padded box the ray
 // misses is passed over whole. The list takes the first RAY_LIST leaves of the walk, and
 // the cut is the nearest entry of any box left out (a full list leaves every subtree out
-// whole): before it every box the ray enters is listed. The hierarchy puts the child
+// whole): before it every box the ray enters is listed. The walk starts at node `start` (0:
+// the root), and `ray_resume` keeps the first node a full list left out, where the march of
+// a union of instances alone lists again (`shaders/march_instances.wgsl`): the nodes before
+// it in the walk's order are done. The hierarchy puts the child
 // nearer the camera first, so a camera ray's walk meets its instances nearly in the order
 // of entry, and the list is sorted once after the walk, where an insertion at each leaf had
 // a loop inside the walk's (llvmpipe runs a loop's first trip even where no lane needs it:
 // 1.06x faster from close by on the 300-shape grid, docs/performance.md).
-fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
+fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, start: u32) {
     ray_pixel = pixel;
+    var resume = NO_RESUME;
     // A zero component makes its slab's bounds infinite: the ray is inside it or never.
     let inv = 1.0 / select(rd, vec3<f32>(1e-30), rd == vec3<f32>(0.0));
     var n = 0u;
     var cut = 3.0e38;
     let end = scene_data[0].w;
-    var i = 0u;
+    var i = start;
     // A camera ray whose block's candidates were made (`shaders/instances_blocks.wgsl`)
     // takes them, each a leaf, in the walk's order, instead of the walk's nodes: one loop
-    // either way, so that its body is inlined once.
-    var from_block = ray_primary && ray_slot != NO_BLOCK;
+    // either way, so that its body is inlined once. (Its list never fills: a block holds
+    // fewer candidates than RAY_LIST.)
+    var from_block = ray_primary && ray_slot != NO_BLOCK && start == 0u;
     ray_primary = false;
     var e = 0u;
     var e_end = 0u;
@@ -104,7 +112,9 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
             continue;
         }
         if n == RAY_LIST || lo >= cut {
+            // (The list is full: a cut exists only once it is.)
             cut = min(cut, lo);
+            resume = min(resume, node);
             i = a.w;
             continue;
         }
@@ -145,6 +155,7 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32) {
     ray_n = n;
     ray_lo = t0;
     ray_cut = cut;
+    ray_resume = resume;
     ray_k0 = 0u;
     ray_t0 = -3.0e38;
 }

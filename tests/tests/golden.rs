@@ -378,14 +378,23 @@ fn instances_union_wgsl() {
     let mat = c.wgsl.find("fn scene_material(").expect("scene_material");
     let end = mat + c.wgsl[mat..].find("\n}\n").expect("its end") + 3;
     insta::assert_snapshot!("instances_union.wgsl", &c.wgsl[start..end]);
-    // Each march lists the instances its ray passes first; the march, the refinement and the
-    // normal sample through that list (`shaders/instances_rays.wgsl`), the march and the
-    // refinement in one loop (`shaders/march_merged.wgsl`); the tetrahedron normal finds
-    // the material's instance at the march's end (`end_leaf`) and samples it alone.
-    assert!(c.wgsl.contains("ray_start(ro, rd, span.x, span.y, pixel);"));
-    assert_eq!(c.wgsl.matches("fn march_listed(").count(), 1);
-    assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 1);
-    assert!(c.wgsl.contains("let leaf = normal_nearest(end).leaf;"));
+    // Each march lists the instances its ray passes first (`shaders/instances_rays.wgsl`),
+    // then marches them one by one, each alone, in one loop with the refinement
+    // (`shaders/march_instances.wgsl`), listing again where a full list left nodes out; the
+    // tetrahedron normal samples the instance the march hit, alone, which is also the
+    // material's (`end_leaf`).
+    assert!(c
+        .wgsl
+        .contains("ray_start(ro, rd, span.x, best, pixel, start);"));
+    assert_eq!(
+        c.wgsl
+            .matches("instance_distance(ro + rd * t, leaf)")
+            .count(),
+        1
+    );
+    assert!(!c.wgsl.contains("fn march_listed(") && !c.wgsl.contains("march_distance(ro"));
+    assert!(c.wgsl.contains("let leaf = ray_end_leaf;"));
+    assert!(!c.wgsl.contains("normal_nearest(end)"));
     assert!(c.wgsl.contains("normal_sample(p + k[i] * h, leaf)"));
     assert!(c
         .wgsl
@@ -408,6 +417,16 @@ fn instances_union_wgsl() {
         "the same instances"
     );
     assert!(c.wgsl.contains("scene_params = frame.params;"));
+    // The other children's march is the union's: one loop over the ray's list, the walk and
+    // the other children at each sample (`shaders/march_merged.wgsl` through `ray_walk`), and
+    // the tetrahedron normal finds the instance nearest the march's end.
+    assert!(c
+        .wgsl
+        .contains("ray_start(ro, rd, span.x, span.y, pixel, 0u);"));
+    assert_eq!(c.wgsl.matches("fn march_listed(").count(), 1);
+    assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 1);
+    assert!(c.wgsl.contains("let leaf = normal_nearest(end).leaf;"));
+    assert!(!c.wgsl.contains("instance_distance(ro + rd * t, leaf)"));
     let cut = |from: &str, to: &str| {
         let start = c.wgsl.find(from).expect(from);
         let start = c.wgsl[..start].rfind("\n\n").expect("its comment") + 2;

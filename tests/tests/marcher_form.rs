@@ -1,6 +1,8 @@
-//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): where the distance is dear
-//! (a union read as data, whose distance is a walk of the ray's list; noise, a fractal, a
-//! union of dozens of shapes as code) the march refines in its stepping loop
+//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): a union of instances alone
+//! read as data marches its ray's listed instances one by one, refining in the same loop
+//! (`shaders/march_instances.wgsl`); where the distance is otherwise dear (a mixed union
+//! read as data, whose distance is a walk of the ray's list; noise, a fractal, a union of
+//! dozens of shapes as code) the march refines in its stepping loop
 //! (`shaders/march_merged.wgsl`: one copy of the distance in the march, not two), while a
 //! cheap distance refines in a loop of its own (`shaders/refine.wgsl`), with the plain step
 //! or the relaxed one in either. Both loops draw the same pictures (the render tests against
@@ -20,14 +22,42 @@ fn wgsl(n: usize, render: &str) -> String {
 
 #[test]
 fn a_union_read_as_data_refines_in_the_stepping_loop() {
-    let merged = wgsl(AUTO_INSTANCES, "");
-    assert!(merged.contains("fn march_listed("), "not the data form");
-    // One sample of the ray's list in the march: the stepping loop's, which refinement
-    // shares.
-    assert_eq!(merged.matches("march_distance(ro + rd * t, t)").count(), 1);
-    assert!(merged.contains("r = refine_start(t, d, eps);"));
+    let alone = wgsl(AUTO_INSTANCES, "");
+    assert!(alone.contains("scene_data"), "not the data form");
+    // One instance's distance in the march: the stepping loop's, which refinement shares.
+    assert_eq!(
+        alone
+            .matches("instance_distance(ro + rd * t, leaf)")
+            .count(),
+        1
+    );
+    assert!(alone.contains("r = refine_start(t, d, eps);"));
+    assert!(!alone.contains("fn march_listed("));
     // No refinement loop of its own, so no dead copy of it either.
-    assert!(!merged.contains("fn refine("));
+    assert!(!alone.contains("fn refine("));
+    // With a floor beside the instances: the union's march over the ray's list.
+    let mixed = wgsl_with_floor(AUTO_INSTANCES, "");
+    assert!(
+        mixed.contains("fn march_listed("),
+        "not the mixed data form"
+    );
+    assert_eq!(mixed.matches("march_distance(ro + rd * t, t)").count(), 1);
+    assert!(mixed.contains("r = refine_start(t, d, eps);"));
+    assert!(!mixed.contains("fn refine("));
+}
+
+/// [`wgsl`] with a floor plane beside the grid's shapes (a mixed union: the plane stays
+/// code).
+fn wgsl_with_floor(n: usize, render: &str) -> String {
+    let source = format!("{}\n{render}\n", grid_scene(n)).replacen(
+        "scene = union(\n",
+        "scene = union(\n    plane([0, 1, 0], -1),\n",
+        1,
+    );
+    assert!(source.contains("plane("), "the grid's union has changed");
+    compile(&source, &Options::default())
+        .unwrap_or_else(|f| panic!("grid of {n} with a floor: {f}"))
+        .wgsl
 }
 
 #[test]
@@ -50,12 +80,22 @@ const RELAXED_STEP: &str = "0.95 * 2.0 / (1.0 + slope)";
 #[test]
 fn relaxation_takes_its_step_in_either_loop() {
     // A dear distance: the merged loop with the relaxed step, one sample of the list.
-    let dear = wgsl(AUTO_INSTANCES, "render { relaxation: 1.6 }");
+    let dear = wgsl_with_floor(AUTO_INSTANCES, "render { relaxation: 1.6 }");
     assert!(dear.contains("fn march_listed("), "not the data form");
     assert!(dear.contains(RELAXED_STEP));
     assert_eq!(dear.matches("march_distance(ro + rd * t, t)").count(), 1);
     assert!(dear.contains("r = refine_start(t, d, eps);"));
     assert!(!dear.contains("fn refine("));
+    // Instances alone: each marched with the relaxed step.
+    let alone = wgsl(AUTO_INSTANCES, "render { relaxation: 1.6 }");
+    assert!(alone.contains(RELAXED_STEP));
+    assert_eq!(
+        alone
+            .matches("instance_distance(ro + rd * t, leaf)")
+            .count(),
+        1
+    );
+    assert_eq!(alone.matches("fn march_sampled(").count(), 1);
     // A cheap one: two loops with the relaxed step.
     let cheap = wgsl(8, "render { relaxation: 1.6 }");
     assert!(cheap.contains(RELAXED_STEP));

@@ -27,6 +27,10 @@ pub struct View<'a> {
     /// tetrahedron the nearest instance (`normal_sample`); shadows and AO keep
     /// `scene_distance`.
     pub ray_lists: bool,
+    /// Whether that union is instances alone (no other children): each ray then marches its
+    /// listed instances one by one (`shaders/march_instances.wgsl`), and the march keeps the
+    /// instance it hit for the normal and the material.
+    pub per_instance: bool,
     /// Whether the scene's distance is trusted never to exceed the true distance
     /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
     /// more finely (`touch_distance` in `shaders/hit.wgsl`).
@@ -66,7 +70,7 @@ const MARCH_LISTED: &str = "
 // it ends kept for the normal there.
 fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     let span = ray_span(ro, rd);
-    ray_start(ro, rd, span.x, span.y, pixel);
+    ray_start(ro, rd, span.x, span.y, pixel, 0u);
     let hit = march_listed(ro, rd, pixel);
     ray_hit = hit.t;
     return hit;
@@ -94,7 +98,9 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += marcher.step();
     s += "\n";
     let march = sampled(marcher.loops(), view);
-    if view.ray_lists {
+    if view.per_instance {
+        s += parts::MARCH_INSTANCES;
+    } else if view.ray_lists {
         s += &march.replacen("fn march(", "fn march_listed(", 1);
         s += MARCH_LISTED;
     } else {
@@ -115,7 +121,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         Normals::Analytic => None,
     } {
         if view.ray_lists {
-            s += &normal_listed(part, scene.render.normals);
+            s += &normal_listed(part, scene.render.normals, view.per_instance);
         } else {
             s += part;
         }
@@ -144,7 +150,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     let main = analytic_surface_normal(parts::MAIN, analytic);
     if view.ray_lists {
-        s += &end_leaf(&main_blocks(&main), scene.render.normals);
+        s += &end_leaf(&main_blocks(&main), scene.render.normals, view.per_instance);
     } else {
         s += &main;
     }
@@ -206,22 +212,32 @@ const NORMAL_CALL: &str = "scene_normal(round(q / h) * h, h)";
 /// 300-shape grid 1.04x to 1.08x faster on lavapipe, which runs every inlined copy of the
 /// list's loop under masks), and samples that instance's distance alone (`normal_sample` in
 /// `shaders/instances_ends.wgsl`: 1.07x to 1.09x more, the same pictures; docs/performance.md,
-/// "The normal from the nearest instance").
-fn normal_listed(part: &str, normals: Normals) -> String {
+/// "The normal from the nearest instance"). Where each instance is marched alone
+/// (`per_instance`), the march keeps the instance it hit, and the normal takes that one.
+fn normal_listed(part: &str, normals: Normals, per_instance: bool) -> String {
     if normals == Normals::Tetrahedron {
+        let nearest = if per_instance {
+            "    // The instance the march hit (`shaders/march_instances.wgsl`); the samples take
+    // its distance alone (`normal_sample`).
+    let leaf = ray_end_leaf;"
+        } else {
+            "    // The instance nearest the march's end `end` (not rounded), for the material too
+    // (`end_leaf`); the samples take its distance alone (`normal_sample`).
+    let leaf = normal_nearest(end).leaf;
+    ray_end_leaf = leaf;"
+        };
         part.replace(
             TETRAHEDRON_HEAD,
             "fn scene_normal(p: vec3<f32>, h: f32, end: vec3<f32>) -> vec3<f32> {",
         )
         .replace(
             TETRAHEDRON_LOOP,
-            "    // The instance nearest the march's end `end` (not rounded), for the material too
-    // (`end_leaf`); the samples take its distance alone (`normal_sample`).
-    let leaf = normal_nearest(end).leaf;
-    ray_end_leaf = leaf;
-    for (var i = 0u; i < 4u; i = i + 1u) {
+            &format!(
+                "{nearest}
+    for (var i = 0u; i < 4u; i = i + 1u) {{
         n = n + k[i] * normal_sample(p + k[i] * h, leaf);
-    }",
+    }}"
+            ),
         )
     } else {
         part.replace("scene_distance(", "normal_distance(")
@@ -252,10 +268,21 @@ fn main_blocks(main: &str) -> String {
 /// The entry point's part for a union read as data, and `end_leaf`, the leaf word of the
 /// instance nearest the march's end that `scene_material` takes: the tetrahedron normal
 /// found it before its samples (both radiance parts take the normal at a surface point
-/// before its material), the other normals leave it to a call of its own.
-fn end_leaf(main: &str, normals: Normals) -> String {
+/// before its material), the other normals leave it to a call of its own. Where each
+/// instance is marched alone (`per_instance`), the march kept the instance it hit.
+fn end_leaf(main: &str, normals: Normals, per_instance: bool) -> String {
     let doc = "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n// material.\n";
-    if normals == Normals::Tetrahedron {
+    if per_instance {
+        format!(
+            "{}\n{doc}// The march kept the instance it hit (`shaders/march_instances.wgsl`).\n\
+             fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n",
+            if normals == Normals::Tetrahedron {
+                main.replace(NORMAL_CALL, "scene_normal(round(q / h) * h, h, p)")
+            } else {
+                main.to_string()
+            }
+        )
+    } else if normals == Normals::Tetrahedron {
         format!(
             "{}\n{doc}// The normal found it at p before its samples (`scene_normal`).\n\
              fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n",
@@ -674,6 +701,7 @@ mod tests {
             bounds: ([0.0; 3], [0.0; 3]),
             shadow: [Slab { lo: None, hi: None }; 3],
             ray_lists,
+            per_instance: false,
             trusted: true,
             outside: 1.0,
             dear: ray_lists,
@@ -733,14 +761,14 @@ mod tests {
         assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_HEAD));
         assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_LOOP));
         assert_eq!(parts::MAIN.matches(NORMAL_CALL).count(), 1);
-        let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron);
+        let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron, false);
         assert!(tetrahedron.contains("end: vec3<f32>"));
         assert!(tetrahedron.contains("let leaf = normal_nearest(end).leaf;"));
         assert!(tetrahedron.contains("ray_end_leaf = leaf;"));
         assert!(tetrahedron.contains("normal_sample(p + k[i] * h, leaf)"));
         assert_eq!(tetrahedron.matches("normal_nearest(").count(), 1);
         assert!(!tetrahedron.contains("scene_distance("));
-        let main = end_leaf(parts::MAIN, Normals::Tetrahedron);
+        let main = end_leaf(parts::MAIN, Normals::Tetrahedron, false);
         assert!(main.contains("scene_normal(round(q / h) * h, h, p)"));
         // The entry point finds its block's candidates and marks each sample's march a
         // camera ray's (`main_blocks`).
@@ -754,11 +782,26 @@ mod tests {
             (parts::NORMALS_CENTRAL, Normals::Central),
             (parts::NORMALS_FORWARD, Normals::Forward),
         ] {
-            let listed = normal_listed(part, normals);
+            let listed = normal_listed(part, normals, false);
             assert!(listed.contains("normal_distance(p + ") && !listed.contains("scene_distance("));
-            let main = end_leaf(parts::MAIN, normals);
+            let main = end_leaf(parts::MAIN, normals, false);
             assert!(main.contains(NORMAL_CALL) && main.contains("return normal_nearest(p).leaf;"));
+            // Each instance marched alone: the march kept the instance it hit.
+            let main = end_leaf(parts::MAIN, normals, true);
+            assert!(main.contains(NORMAL_CALL) && main.contains("return ray_end_leaf;"));
+            assert_eq!(normal_listed(part, normals, true), listed);
         }
+        // Each instance marched alone: the tetrahedron normal samples the instance the march
+        // hit, which the march keeps (`shaders/march_instances.wgsl`), and asks no list.
+        let alone = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron, true);
+        assert!(alone.contains("let leaf = ray_end_leaf;"));
+        assert!(alone.contains("normal_sample(p + k[i] * h, leaf)"));
+        assert!(!alone.contains("normal_nearest(") && !alone.contains("scene_distance("));
+        let main = end_leaf(parts::MAIN, Normals::Tetrahedron, true);
+        assert!(main.contains("scene_normal(round(q / h) * h, h, p)"));
+        assert!(main.contains("return ray_end_leaf;"));
+        assert!(parts::MARCH_INSTANCES.contains("ray_end_leaf = best_leaf;"));
+        assert!(parts::MARCH_INSTANCES.contains("instance_distance(ro + rd * t, leaf)"));
         // `end_leaf` is what the normal found at the same point: both radiance parts take
         // a surface point's normal before its material.
         for part in [parts::RADIANCE_PLAIN, parts::RADIANCE_REFLECTIONS] {

@@ -38,6 +38,7 @@ pub const MARCH_STEP: &str = include_str!("../../../shaders/march_step.wgsl");
 pub const MARCH_STEP_RELAXED: &str = include_str!("../../../shaders/march_step_relaxed.wgsl");
 pub const MARCH_TWO_LOOPS: &str = include_str!("../../../shaders/march_two_loops.wgsl");
 pub const MARCH_MERGED: &str = include_str!("../../../shaders/march_merged.wgsl");
+pub const MARCH_INSTANCES: &str = include_str!("../../../shaders/march_instances.wgsl");
 pub const CAMERA: &str = include_str!("../../../shaders/camera.wgsl");
 pub const MAIN: &str = include_str!("../../../shaders/main.wgsl");
 pub const SAFE_NORMALIZE: &str = include_str!("../../../shaders/normals/safe_normalize.wgsl");

@@ -1,12 +1,14 @@
 // Culling per ray: one walk of the hierarchy with the ray lists the instances whose padded
-// boxes it passes through, with the stretch of t inside each (sorted by entry). The march
-// then evaluates only those whose stretch holds t; the others bound the step by the ray's
-// distance to their stretch, and the rest of the union cannot come near the ray. The list
-// holds at most RAY_LIST entries, every one that enters before `ray_cut` (the nearest entry
-// of those left out): from the cut on, the walk over the whole hierarchy answers. On
-// lavapipe this drew the 300-shape grid 3.7x to 5.5x faster than its code (the same
-// marcher on both sides), where the walk at every step ran at 0.43x from close by (docs/performance.md,
-// "Culling per ray").
+// boxes it passes through, with the stretch of t inside each (sorted by entry). A union of
+// instances alone then marches each listed instance alone over its stretch
+// (`shaders/march_instances.wgsl`). A mixed union's march evaluates those whose stretch
+// holds t (`ray_walk`); the others bound the step by the ray's distance to their stretch,
+// and the rest of the union cannot come near the ray. The list holds at most RAY_LIST
+// entries, every one that enters before `ray_cut` (the nearest entry of those left out):
+// from the cut on, the walk over the whole hierarchy answers there. On lavapipe this drew
+// the 300-shape grid 3.7x to 5.5x faster than its code (the same marcher on both sides),
+// where the walk at every step ran at 0.43x from close by (docs/performance.md, "Culling
+// per ray").
 const RAY_LIST: u32 = 32u;
 const NO_RESUME: u32 = 0xffffffffu;
 
@@ -27,7 +29,7 @@ var<private> ray_t0: f32;
 var<private> ray_hit: f32;
 // The first node a full list left out (`ray_start`'s walk resumes there), or NO_RESUME.
 var<private> ray_resume: u32;
-// The leaf word of the instance nearest where the march ended (`end_leaf`).
+// The leaf word of the instance the march hit (`end_leaf`): the one nearest where it ended.
 var<private> ray_end_leaf: u32;
 
 // How far from its stretch an instance is still evaluated at t: four surface thresholds
@@ -162,29 +164,34 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, start: 
 
 // The union's distance at p, t along the ray, from the ray's list; no more than `below` (a
 // distance already known, a mixed union's other children's), with the leaf word of the
-// instance that gave it (0 if none is nearer). Along the ray (`along`, the march's samples)
-// it is a bound on how far the ray can step from t both ways: a listed instance whose stretch
-// holds t (within `ray_margin`) gives its distance; one further along, the ray's distance to
-// its entry; one behind, the distance back to its exit; what the list left out, the distance
-// to the cut. The list is sorted by entry, so the loop stops at the first entry further than
-// the bound so far; the entries that (with all before them) ended more than a margin before
-// t are passed over from where the last step began (from the list's start when t went back),
-// and bound the step by t minus their last exit. Off the ray (near the march's end, t =
-// `ray_hit`: the instance nearest the end, for the material and the tetrahedron normal,
-// and the central and forward normals' samples) only the instances whose stretch holds t
-// are evaluated: every instance within the normal's step of the end is among them
-// (the boxes' padding is far larger than the step). From a margin before the cut on, or
-// where no listed stretch holds the march's end (a pass by an edge counted as touching it,
-// within the threshold but outside the padding), the walk over the whole hierarchy answers.
+// instance that gave it (0 if none is nearer). Along the ray (`along`, a mixed union's
+// march's samples) it is a bound on how far the ray can step from t both ways: a listed
+// instance whose stretch holds t (within `ray_margin`) gives its distance; one further
+// along, the ray's distance to its entry; one behind, the distance back to its exit; what
+// the list left out, the distance to the cut. The list is sorted by entry, so the loop
+// stops at the first entry further than the bound so far; the entries that (with all before
+// them) ended more than a margin before t are passed over from where the last step began
+// (from the list's start when t went back), and bound the step by t minus their last exit.
+// Off the ray (near the march's end, t =
+// `ray_hit`: a mixed union's instance nearest the end, for the material and the
+// tetrahedron normal, and the central and forward normals' samples) only the instances
+// whose stretch holds t are evaluated: every instance within the normal's step of the end
+// is among them (the boxes' padding is far larger than the step). From a margin before the
+// cut on, where no listed stretch holds the march's end (a pass by an edge counted as
+// touching it, within the threshold but outside the padding), or where the march of a union
+// of instances alone listed the ray more than once (`ray_lo` is then past every t), the
+// walk over the whole hierarchy answers.
 //
-// One loop serves the list and the walk, so that it holds the only call of
-// instance_distance here: drivers inline every call, and on lavapipe a loop's first trip
-// and an `if`'s body run under masks where no lane needs them. Against a list loop and the
-// walk's own loop, each with its call, the 300-shape grid drew 1.02x to 1.03x (close by) and
-// 1.08x to 1.09x (the suite's camera) faster, the same pictures, and its pipeline built in
-// 0.50 s against 0.59 s (docs/performance.md, "One loop for the list and the walk"). (Listing the ray again at the cut was tried instead of the
-// walk: where more than RAY_LIST padded boxes hold one point, the new cut falls behind t
-// again, and a march that far is rare: rays from afar meet the front of a union early.)
+// One loop serves the list and the walk, so that it holds one call of instance_distance,
+// not two: drivers inline every call, and on lavapipe a loop's first trip and an `if`'s
+// body run under masks where no lane needs them. Against a list loop and the walk's own
+// loop, each with its call, the 300-shape grid drew 1.02x to 1.03x (close by) and 1.08x to
+// 1.09x (the suite's camera) faster, the same pictures, and its pipeline built in 0.50 s
+// against 0.59 s (docs/performance.md, "One loop for the list and the walk"). (Listing the
+// ray again at the cut was tried instead of the walk: where more than RAY_LIST padded boxes
+// hold one point, the new cut falls behind t again, and a march that far is rare: rays from
+// afar meet the front of a union early. The march of instances alone lists again from the
+// first node left out instead, `ray_resume`, which any crowd lets through.)
 fn ray_walk(p: vec3<f32>, t: f32, below: f32, along: bool) -> Nearest {
     let m = ray_margin(t);
     var walk = t < ray_lo || t > ray_cut - m;

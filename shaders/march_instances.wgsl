@@ -76,8 +76,10 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                     break;
                 }
                 leaf = ray_leaf[k];
-                s = march_start(vec2<f32>(ray_in[k], ray_out[k]));
                 stop = min(ray_out[k], best);
+                // The relaxed step goes no further than the stretch's end (`march_start`'s
+                // span): past it a nearer hit of this instance would be stepped over.
+                s = march_start(vec2<f32>(ray_in[k], stop));
                 done = false;
                 taken = 0u;
                 k = k + 1u;
@@ -96,7 +98,9 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 refining = true;
             }
         }
-        if ray_resume == NO_RESUME {
+        // Every node the list left out enters at the cut or beyond: none can hold a nearer
+        // hit once the cut is beyond the nearest.
+        if ray_resume == NO_RESUME || ray_cut >= best {
             break;
         }
         start = ray_resume;

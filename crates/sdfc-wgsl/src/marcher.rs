@@ -22,10 +22,10 @@ pub struct View<'a> {
     /// The box shadow rays stop at ([`shadow_slabs`]).
     pub shadow: [Slab; 3],
     /// Whether the union is read as data (`shaders/instances_rays.wgsl`): each march lists
-    /// the instances its ray passes and samples `march_distance`, and the normals sample
-    /// near the march's end, the central and forward ones `normal_distance`, the
-    /// tetrahedron the nearest instance (`normal_sample`); shadows and AO keep
-    /// `scene_distance`.
+    /// the instances its ray passes first. A mixed union's march then samples
+    /// `march_distance` and its tetrahedron normal the instance nearest the end
+    /// (`normal_sample`); the central and forward normals sample `normal_distance` near the
+    /// march's end; shadows and AO keep `scene_distance`.
     pub ray_lists: bool,
     /// Whether that union is instances alone (no other children): each ray then marches its
     /// listed instances one by one (`shaders/march_instances.wgsl`), and the march keeps the
@@ -97,14 +97,16 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     }
     s += marcher.step();
     s += "\n";
-    let march = sampled(marcher.loops(), view);
     if view.per_instance {
+        // Its own loop, which refines in it as the merged one does: an instance read from
+        // the data is dear beside the loop's bookkeeping.
         s += parts::MARCH_INSTANCES;
     } else if view.ray_lists {
+        let march = sampled(marcher.loops(), view);
         s += &march.replacen("fn march(", "fn march_listed(", 1);
         s += MARCH_LISTED;
     } else {
-        s += &march;
+        s += &sampled(marcher.loops(), view);
     }
     s += "\n";
     s += parts::CAMERA;
@@ -213,31 +215,33 @@ const NORMAL_CALL: &str = "scene_normal(round(q / h) * h, h)";
 /// list's loop under masks), and samples that instance's distance alone (`normal_sample` in
 /// `shaders/instances_ends.wgsl`: 1.07x to 1.09x more, the same pictures; docs/performance.md,
 /// "The normal from the nearest instance"). Where each instance is marched alone
-/// (`per_instance`), the march keeps the instance it hit, and the normal takes that one.
+/// (`per_instance`), the march kept the instance it hit, and the samples take that one: the
+/// function keeps its head, and asks no list.
 fn normal_listed(part: &str, normals: Normals, per_instance: bool) -> String {
-    if normals == Normals::Tetrahedron {
-        let nearest = if per_instance {
+    if normals == Normals::Tetrahedron && per_instance {
+        part.replace(
+            TETRAHEDRON_LOOP,
             "    // The instance the march hit (`shaders/march_instances.wgsl`); the samples take
     // its distance alone (`normal_sample`).
-    let leaf = ray_end_leaf;"
-        } else {
-            "    // The instance nearest the march's end `end` (not rounded), for the material too
-    // (`end_leaf`); the samples take its distance alone (`normal_sample`).
-    let leaf = normal_nearest(end).leaf;
-    ray_end_leaf = leaf;"
-        };
+    let leaf = ray_end_leaf;
+    for (var i = 0u; i < 4u; i = i + 1u) {
+        n = n + k[i] * normal_sample(p + k[i] * h, leaf);
+    }",
+        )
+    } else if normals == Normals::Tetrahedron {
         part.replace(
             TETRAHEDRON_HEAD,
             "fn scene_normal(p: vec3<f32>, h: f32, end: vec3<f32>) -> vec3<f32> {",
         )
         .replace(
             TETRAHEDRON_LOOP,
-            &format!(
-                "{nearest}
-    for (var i = 0u; i < 4u; i = i + 1u) {{
+            "    // The instance nearest the march's end `end` (not rounded), for the material too
+    // (`end_leaf`); the samples take its distance alone (`normal_sample`).
+    let leaf = normal_nearest(end).leaf;
+    ray_end_leaf = leaf;
+    for (var i = 0u; i < 4u; i = i + 1u) {
         n = n + k[i] * normal_sample(p + k[i] * h, leaf);
-    }}"
-            ),
+    }",
         )
     } else {
         part.replace("scene_distance(", "normal_distance(")
@@ -271,18 +275,15 @@ fn main_blocks(main: &str) -> String {
 /// before its material), the other normals leave it to a call of its own. Where each
 /// instance is marched alone (`per_instance`), the march kept the instance it hit.
 fn end_leaf(main: &str, normals: Normals, per_instance: bool) -> String {
-    let doc = "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n// material.\n";
     if per_instance {
-        format!(
-            "{}\n{doc}// The march kept the instance it hit (`shaders/march_instances.wgsl`).\n\
-             fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n",
-            if normals == Normals::Tetrahedron {
-                main.replace(NORMAL_CALL, "scene_normal(round(q / h) * h, h, p)")
-            } else {
-                main.to_string()
-            }
-        )
-    } else if normals == Normals::Tetrahedron {
+        return format!(
+            "{main}\n// The leaf word of the instance the march hit, ending at p (0 if none): for its\n\
+             // material. The march kept it (`shaders/march_instances.wgsl`).\n\
+             fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n"
+        );
+    }
+    let doc = "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n// material.\n";
+    if normals == Normals::Tetrahedron {
         format!(
             "{}\n{doc}// The normal found it at p before its samples (`scene_normal`).\n\
              fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n",
@@ -797,8 +798,9 @@ mod tests {
         assert!(alone.contains("let leaf = ray_end_leaf;"));
         assert!(alone.contains("normal_sample(p + k[i] * h, leaf)"));
         assert!(!alone.contains("normal_nearest(") && !alone.contains("scene_distance("));
+        assert!(alone.contains(TETRAHEDRON_HEAD));
         let main = end_leaf(parts::MAIN, Normals::Tetrahedron, true);
-        assert!(main.contains("scene_normal(round(q / h) * h, h, p)"));
+        assert!(main.starts_with(parts::MAIN) && main.contains(NORMAL_CALL));
         assert!(main.contains("return ray_end_leaf;"));
         assert!(parts::MARCH_INSTANCES.contains("ray_end_leaf = best_leaf;"));
         assert!(parts::MARCH_INSTANCES.contains("instance_distance(ro + rd * t, leaf)"));

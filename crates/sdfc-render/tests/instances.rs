@@ -285,21 +285,7 @@ fn rays_past_more_instances_than_a_list_holds() {
 /// hierarchy at every step.
 #[test]
 fn a_crowd_of_more_instances_than_a_list_holds() {
-    let mut src = String::from(
-        "camera { position: [0.3, 0.4, 1.6], target: [0, 0, 0], fov: 50deg }\nscene = union(\n",
-    );
-    for i in 0..48 {
-        let k = i as f64;
-        let (x, y, z) = (
-            0.03 * k.sin(),
-            0.03 * (1.7 * k).cos(),
-            0.03 * (2.3 * k).sin(),
-        );
-        let r = 0.5 + 0.01 * (i % 5) as f64;
-        src += &format!("    sphere({r}).translate([{x:.4}, {y:.4}, {z:.4}]),\n");
-    }
-    src += "    box([0.3, 0.3, 0.3]).translate([1.2, -0.4, -0.5]),\n);\n";
-    check("a crowd of 48 spheres", &src);
+    check("a crowd of 48 spheres", &crowd(""));
 }
 
 /// The same crowd with central differences for normals: their samples at the march's end
@@ -308,8 +294,16 @@ fn a_crowd_of_more_instances_than_a_list_holds() {
 /// the first; those samples then walk, and the normals match the code's.
 #[test]
 fn a_crowd_with_central_normals() {
-    let mut src = String::from(
-        "render { normals: central }\ncamera { position: [0.3, 0.4, 1.6], target: [0, 0, 0], fov: 50deg }\nscene = union(\n",
+    check(
+        "a crowd of 48 spheres, central normals",
+        &crowd("render { normals: central }\n"),
+    );
+}
+
+/// The crowd of 48 spheres, after `head` (render settings).
+fn crowd(head: &str) -> String {
+    let mut src = format!(
+        "{head}camera {{ position: [0.3, 0.4, 1.6], target: [0, 0, 0], fov: 50deg }}\nscene = union(\n"
     );
     for i in 0..48 {
         let k = i as f64;
@@ -321,8 +315,7 @@ fn a_crowd_with_central_normals() {
         let r = 0.5 + 0.01 * (i % 5) as f64;
         src += &format!("    sphere({r}).translate([{x:.4}, {y:.4}, {z:.4}]),\n");
     }
-    src += "    box([0.3, 0.3, 0.3]).translate([1.2, -0.4, -0.5]),\n);\n";
-    check("a crowd of 48 spheres, central normals", &src);
+    src + "    box([0.3, 0.3, 0.3]).translate([1.2, -0.4, -0.5]),\n);\n"
 }
 
 /// The 300-shape grid from `compare_shader`'s close camera: at 64x48 one ray came within the

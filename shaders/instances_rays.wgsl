@@ -78,8 +78,9 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, start: 
     // A camera ray whose block's candidates were made (`shaders/instances_blocks.wgsl`)
     // takes them, each a leaf, in the walk's order, instead of the walk's nodes: one loop
     // either way, so that its body is inlined once. (Its list never fills: a block holds
-    // fewer candidates than RAY_LIST.)
-    var from_block = ray_primary && ray_slot != NO_BLOCK && start == 0u;
+    // fewer candidates than RAY_LIST. A second list of the same ray walks: the first call
+    // clears `ray_primary`.)
+    var from_block = ray_primary && ray_slot != NO_BLOCK;
     ray_primary = false;
     var e = 0u;
     var e_end = 0u;

@@ -26,19 +26,18 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     var s = march_start(span);
     var refining = false;
     var r = refine_start(0.0, 0.0, 0.0);
+    // The node the list starts at: the root, then where a full list stopped.
     var start = 0u;
-    var lists = 0u;
     loop {
         ray_start(ro, rd, span.x, best, pixel, start);
-        lists = lists + 1u;
         // The list's next entry, the leaf word of the one being marched, where its stretch
         // ends, and whether it is done (a hit found, or none before no entry is left).
         var k = 0u;
         var leaf = 0u;
         var stop = -1.0;
         var done = true;
-        // The samples of the stretch being marched.
-        var taken = 0u;
+        // The samples taken before the stretch being marched.
+        var begun = 0u;
         loop {
             if refining {
                 let next = refine_next(&r);
@@ -57,11 +56,11 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                     refining = false;
                 }
             }
-            if !refining && !done && taken >= MAX_STEPS {
+            if !refining && !done && steps - begun >= MAX_STEPS {
                 // Out of steps while passing the stretch's surface within a tenth of the
                 // threshold is a hit where the ray is (`march_end`); either way the stretch
                 // is done.
-                let e = march_end(s.t, taken, s.passing && s.close);
+                let e = march_end(s.t, steps - begun, s.passing && s.close);
                 if e.hit && e.t < best {
                     best = e.t;
                     found = true;
@@ -81,13 +80,12 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 // span): past it a nearer hit of this instance would be stepped over.
                 s = march_start(vec2<f32>(ray_in[k], stop));
                 done = false;
-                taken = 0u;
+                begun = steps;
                 k = k + 1u;
             }
             let t = select(s.t, r.t, refining);
             let d = instance_distance(ro + rd * t, leaf);
             steps = steps + 1u;
-            taken = taken + 1u;
             if refining {
                 refine_sampled(&r, d);
                 continue;
@@ -105,9 +103,10 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         }
         start = ray_resume;
     }
-    if lists > 1u {
-        // The last list does not hold the instances of the ones before it: the central and
-        // forward normals' samples at the end take the walk (`ray_walk`).
+    if start != 0u {
+        // More than one list (the root is never left out), and the last does not hold the
+        // instances of the ones before it: the central and forward normals' samples at the
+        // end take the walk (`ray_walk`).
         ray_lo = 3.0e38;
     }
     ray_end_leaf = best_leaf;

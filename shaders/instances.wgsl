@@ -30,7 +30,7 @@ fn instance_distance(p: vec3<f32>, leaf: u32) -> f32 {
     return instance_kind(local, r) * c.w;
 }
 
-// One node of the walk (`scene_nearest`, `ray_walk`): where it goes next, the leaf word of
+// One node of the walk (`scene_nearest`, `ray_nearest`): where it goes next, the leaf word of
 // the instance to evaluate there (0: none), and the best distance so far.
 struct Walked {
     next: u32,
@@ -66,7 +66,7 @@ fn walk_node(p: vec3<f32>, i: u32, d: f32) -> Walked {
 // skipped subtree contributes at least the best distance when it was skipped, which is never
 // below the end result. Near every surface that is the union's exact distance. `below` is a
 // distance the caller already has (a mixed union's other children's, else 3e38): the walk
-// starts from it, and the leaf word is 0 where no instance is nearer. (`ray_walk` walks the
+// starts from it, and the leaf word is 0 where no instance is nearer. (`ray_nearest` walks the
 // same way where a ray's list does not answer.)
 fn scene_nearest(p: vec3<f32>, below: f32) -> Nearest {
     var d = below;

@@ -1,12 +1,13 @@
 // The signed distance from p to the scene, anywhere (shadows, ambient occlusion). The other
 // children's distance comes first: the walk then skips every part no nearer than it. The
-// march samples `march_distance` instead.
+// march takes the other children alone (`march_rest`), then each listed instance alone
+// (`shaders/march_instances.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
     return scene_nearest(p, rest_distance(p)).distance;
 }
 
-// The material at a surface point p, where a march ended: the nearest instance's
-// (`end_leaf`), or the other children's where no instance is nearer.
+// The material at a surface point p, where a march ended: the instance's it hit
+// (`end_leaf`), or the other children's where it hit them (leaf 0).
 fn scene_material(p: vec3<f32>) -> SceneMaterial {
     let leaf = end_leaf(p);
     if leaf == 0u {
@@ -15,16 +16,9 @@ fn scene_material(p: vec3<f32>) -> SceneMaterial {
     return material_by_index(scene_data[leaf + 1u].y);
 }
 
-// The march's distance at p, t along the ray being marched: the other children's, and the
-// instances the ray passes (`ray_distance`).
-fn march_distance(p: vec3<f32>, t: f32) -> f32 {
-    return ray_distance(p, t, rest_distance(p));
-}
-
 // The union's distance near the march's end: the other children's, and the instances the
 // ray's list holds there (`ray_nearest`), with the instance that gives it (0 if none is
-// nearer): the instance nearest the end (the material's, and the one the tetrahedron normal
-// samples, `normal_sample`) and the central and forward normals' samples.
+// nearer): the central and forward normals' samples.
 fn normal_nearest(p: vec3<f32>) -> Nearest {
     return ray_nearest(p, rest_distance(p));
 }
@@ -35,11 +29,10 @@ fn normal_distance(p: vec3<f32>) -> f32 {
 }
 
 // The normal's samples about the march's end (the tetrahedron's, `scene_normal`): the
-// distance of the instance nearest the end (`leaf`, from `normal_nearest` there) alone, or
-// the other children's where no instance is nearer there (leaf 0; rarely also where the walk
-// gave a box's distance, `shaders/instances_ends.wgsl`). Both are computed and one kept: on
-// lavapipe an `if` runs its body under masks whatever the lanes need, and the instance's
-// distance is cheap beside the ray's list. Leaf 0 is read as 1, in the buffer.
+// distance of what the march hit alone (`leaf`, `ray_end_leaf`): an instance, or the other
+// children (leaf 0; also a miss, whose normal nothing reads). Both are computed and one kept:
+// on lavapipe an `if` runs its body under masks whatever the lanes need, and the instance's
+// distance is cheap. Leaf 0 is read as 1, in the buffer.
 fn normal_sample(p: vec3<f32>, leaf: u32) -> f32 {
     return select(rest_distance(p), instance_distance(p, max(leaf, 1u)), leaf != 0u);
 }

@@ -1,31 +1,24 @@
 // Culling per ray: one walk of the hierarchy with the ray lists the instances whose padded
-// boxes it passes through, with the stretch of t inside each (sorted by entry). A union of
-// instances alone then marches each listed instance alone over its stretch
-// (`shaders/march_instances.wgsl`). A mixed union's march evaluates those whose stretch
-// holds t (`ray_walk`); the others bound the step by the ray's distance to their stretch,
-// and the rest of the union cannot come near the ray. The list holds at most RAY_LIST
-// entries, every one that enters before `ray_cut` (the nearest entry of those left out):
-// from the cut on, the walk over the whole hierarchy answers there. On lavapipe this drew
-// the 300-shape grid 3.7x to 5.5x faster than its code (the same marcher on both sides),
-// where the walk at every step ran at 0.43x from close by (docs/performance.md, "Culling
-// per ray").
+// boxes it passes through, with the stretch of t inside each (sorted by entry). The march
+// then takes each listed instance alone over its stretch (`shaders/march_instances.wgsl`).
+// The list holds at most RAY_LIST entries, every one that enters before `ray_cut` (the
+// nearest entry of those left out), and the march lists again from the first node left out
+// (`ray_resume`). On lavapipe the lists drew the 300-shape grid 3.7x to 5.5x faster than its
+// code (the same marcher on both sides), where the walk at every step ran at 0.43x from
+// close by (docs/performance.md, "Culling per ray").
 const RAY_LIST: u32 = 32u;
 const NO_RESUME: u32 = 0xffffffffu;
 
-// The ray's list: leaf words, entry and exit t, and the largest exit so far in the list.
+// The ray's list: leaf words, entry and exit t.
 var<private> ray_leaf: array<u32, 32>;
 var<private> ray_in: array<f32, 32>;
 var<private> ray_out: array<f32, 32>;
-var<private> ray_most: array<f32, 32>;
 // The pixel angle; the list's length, the t it starts at and the entry of the first
-// instance it leaves out (3e38: none); the first entry the last step needed and that step's
-// t; the t where the march ended.
+// instance it leaves out (3e38: none); the t where the march ended.
 var<private> ray_pixel: f32;
 var<private> ray_n: u32;
 var<private> ray_lo: f32;
 var<private> ray_cut: f32;
-var<private> ray_k0: u32;
-var<private> ray_t0: f32;
 var<private> ray_hit: f32;
 // The first node a full list left out (`ray_start`'s walk resumes there), or NO_RESUME.
 var<private> ray_resume: u32;
@@ -59,9 +52,9 @@ fn ray_padded(c: vec3<f32>, half: vec3<f32>, ro: vec3<f32>, pixel: f32) -> vec3<
 // misses is passed over whole. The list takes the first RAY_LIST leaves of the walk, and
 // the cut is the nearest entry of any box left out (a full list leaves every subtree out
 // whole): before it every box the ray enters is listed. The walk starts at node `start` (0:
-// the root), and `ray_resume` keeps the first node a full list left out, where the march of
-// a union of instances alone lists again (`shaders/march_instances.wgsl`): the nodes before
-// it in the walk's order are done. The hierarchy puts the child
+// the root), and `ray_resume` keeps the first node a full list left out, where the march
+// lists again (`shaders/march_instances.wgsl`): the nodes before it in the walk's order are
+// done. The hierarchy puts the child
 // nearer the camera first, so a camera ray's walk meets its instances nearly in the order
 // of entry, and the list is sorted once after the walk, where an insertion at each leaf had
 // a loop inside the walk's (llvmpipe runs a loop's first trip even where no lane needs it:
@@ -150,77 +143,34 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, start: 
         ray_out[k] = hi;
         ray_leaf[k] = leaf;
     }
-    var most = -3.0e38;
-    for (var k = 0u; k < n; k = k + 1u) {
-        most = max(most, ray_out[k]);
-        ray_most[k] = most;
-    }
     ray_n = n;
     ray_lo = t0;
     ray_cut = cut;
     ray_resume = resume;
-    ray_k0 = 0u;
-    ray_t0 = -3.0e38;
 }
 
-// The union's distance at p, t along the ray, from the ray's list; no more than `below` (a
-// distance already known, a mixed union's other children's), with the leaf word of the
-// instance that gave it (0 if none is nearer). Along the ray (`along`, a mixed union's
-// march's samples) it is a bound on how far the ray can step from t both ways: a listed
-// instance whose stretch holds t (within `ray_margin`) gives its distance; one further
-// along, the ray's distance to its entry; one behind, the distance back to its exit; what
-// the list left out, the distance to the cut. The list is sorted by entry, so the loop
-// stops at the first entry further than the bound so far; the entries that (with all before
-// them) ended more than a margin before t are passed over from where the last step began
-// (from the list's start when t went back), and bound the step by t minus their last exit.
-// Off the ray (near the march's end, t =
-// `ray_hit`: a mixed union's instance nearest the end, for the material and the
-// tetrahedron normal, and the central and forward normals' samples) only the instances
-// whose stretch holds t are evaluated: every instance within the normal's step of the end
-// is among them (the boxes' padding is far larger than the step). From a margin before the
-// cut on, where no listed stretch holds the march's end (a pass by an edge counted as
-// touching it, within the threshold but outside the padding), or where the march of a union
-// of instances alone listed the ray more than once (`ray_lo` is then past every t), the
-// walk over the whole hierarchy answers.
+// The union's distance at p near the march's end (t = `ray_hit`), from the ray's list; no
+// more than `below` (a distance already known, a mixed union's other children's), with the
+// leaf word of the instance that gave it (0 if none is nearer): the central and forward
+// normals' samples. Only the listed instances whose stretch holds the end (within
+// `ray_margin`) are evaluated: every instance within the normal's step of the end is among
+// them (the boxes' padding is far larger than the step). From a margin before the cut on,
+// where no listed stretch holds the march's end (a pass by an edge counted as touching it,
+// within the threshold but outside the padding), or where the march listed the ray more
+// than once (`ray_lo` is then past every t), the walk over the whole hierarchy answers.
 //
 // One loop serves the list and the walk, so that it holds one call of instance_distance,
 // not two: drivers inline every call, and on lavapipe a loop's first trip and an `if`'s
-// body run under masks where no lane needs them. Against a list loop and the walk's own
-// loop, each with its call, the 300-shape grid drew 1.02x to 1.03x (close by) and 1.08x to
-// 1.09x (the suite's camera) faster, the same pictures, and its pipeline built in 0.50 s
-// against 0.59 s (docs/performance.md, "One loop for the list and the walk"). (Listing the
-// ray again at the cut was tried instead of the walk: where more than RAY_LIST padded boxes
-// hold one point, the new cut falls behind t again, and a march that far is rare: rays from
-// afar meet the front of a union early. The march of instances alone lists again from the
-// first node left out instead, `ray_resume`, which any crowd lets through.)
-fn ray_walk(p: vec3<f32>, t: f32, below: f32, along: bool) -> Nearest {
+// body run under masks where no lane needs them (docs/performance.md, "One loop for the
+// list and the walk").
+fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
+    let t = ray_hit;
     let m = ray_margin(t);
     var walk = t < ray_lo || t > ray_cut - m;
     var d = below;
     var k = 0u;
-    var hint = 0u;
-    if walk {
-        hint = scene_hint;
-    } else if along {
-        d = min(below, ray_cut - t);
-        if t < ray_t0 {
-            ray_k0 = 0u;
-        }
-        var k0 = ray_k0;
-        loop {
-            if k0 >= ray_n || ray_most[k0] + m >= t {
-                break;
-            }
-            k0 = k0 + 1u;
-        }
-        ray_k0 = k0;
-        ray_t0 = t;
-        if k0 > 0u {
-            d = min(d, t - ray_most[k0 - 1u]);
-        }
-        k = k0;
-    }
-    // Whether a listed stretch holds t (off the ray: if none does, the walk answers).
+    var hint = select(0u, scene_hint, walk);
+    // Whether a listed stretch holds t (if none does, the walk answers).
     var held = false;
     let end = scene_data[0].w;
     var i = 0u;
@@ -241,32 +191,18 @@ fn ray_walk(p: vec3<f32>, t: f32, below: f32, along: bool) -> Nearest {
                 continue;
             }
         } else {
-            var past = k >= ray_n;
-            if !past {
-                past = select(ray_in[k] - m > t, ray_in[k] - t >= d, along);
-            }
-            if past {
-                if along || held {
+            if k >= ray_n || ray_in[k] - m > t {
+                if held {
                     break;
                 }
                 walk = true;
                 hint = scene_hint;
                 continue;
             }
-            let t_in = ray_in[k];
-            let t_out = ray_out[k];
             leaf = ray_leaf[k];
+            let outside = t < ray_in[k] - m || t > ray_out[k] + m;
             k = k + 1u;
-            if t < t_in - m {
-                if along {
-                    d = min(d, t_in - t);
-                }
-                continue;
-            }
-            if t > t_out + m {
-                if along {
-                    d = min(d, t - t_out);
-                }
+            if outside {
                 continue;
             }
             held = true;
@@ -281,16 +217,4 @@ fn ray_walk(p: vec3<f32>, t: f32, below: f32, along: bool) -> Nearest {
         scene_hint = nearest;
     }
     return Nearest(d, nearest);
-}
-
-// The march's bound at p, t along the ray (`ray_walk` along it).
-fn ray_distance(p: vec3<f32>, t: f32, below: f32) -> f32 {
-    return ray_walk(p, t, below, true).distance;
-}
-
-// The union's distance near the march's end, and the instance that gives it (`ray_walk`
-// off the ray): the instance nearest the end (the material's, and the one the tetrahedron
-// normal samples) and the central and forward normals' samples.
-fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
-    return ray_walk(p, ray_hit, below, false);
 }

@@ -1,20 +1,24 @@
-// The march of a union of instances alone, read as data: the ray's first hit on a hard union
-// is the nearest of its instances' first hits, so each instance the ray's list holds
-// (`ray_start`, sorted by entry) is marched alone over its stretch, one after the other, and
-// an instance whose stretch begins beyond the nearest hit so far is not marched at all. Each
-// sample evaluates one instance, where the union's march evaluated every listed instance
-// whose stretch held t (a loop within the loop, with the walk beside it for what the list
-// left out, all of it run under masks on lavapipe). On lavapipe the 300-shape grid drew 1.8x
-// faster from close by and 1.4x to 1.5x from the suite's camera, the same pictures
-// (docs/performance.md, "Each instance marched alone"). Each stretch is marched as the union
-// was (`march_sampled` plain or relaxed, `refine_start` and the rest, in one loop as in
-// `shaders/march_merged.wgsl`), from a fresh state at its entry, with MAX_STEPS samples of
-// its own: one sample of the union's march moved every instance whose stretch held t, and a
-// crowd of 48 spheres about one point (`tests/instances.rs`) took 65 samples a ray, missing
-// silhouettes, with one budget for all. `steps` counts every sample. Where a full list left
-// nodes out (`ray_resume`), the ray lists again from there, up to the nearest hit so far, and
-// marches those too. The instance hit is kept for the normal and the material
-// (`ray_end_leaf`), and the t for the other normals' samples (`ray_hit`).
+// The march of a union read as data: the ray's first hit on a hard union is the nearest of
+// its children's first hits, so each instance the ray's list holds (`ray_start`, sorted by
+// entry) is marched alone over its stretch, one after the other, and an instance whose
+// stretch begins beyond the nearest hit so far is not marched at all. A mixed union's other
+// children (a floor, a fractal) are marched first, on their own (`march_rest`, emitted in
+// place of this function's first lines), and their hit is the nearest so far. Each sample
+// evaluates one instance, where the union's march evaluated every listed instance whose
+// stretch held t (a loop within the loop, with the walk beside it for what the list left
+// out, and a mixed union's other children, all of it run under masks on lavapipe). On
+// lavapipe the 300-shape grid drew 1.8x faster from close by and 1.4x to 1.5x from the
+// suite's camera, the same pictures, and with a floor 2.0x (docs/performance.md, "Each
+// instance marched alone", "A mixed union's other children marched alone"). Each stretch is
+// marched as the union was (`march_sampled` plain or relaxed, `refine_start` and the rest,
+// in one loop as in `shaders/march_merged.wgsl`), from a fresh state at its entry, with
+// MAX_STEPS samples of its own: one sample of the union's march moved every instance whose
+// stretch held t, and a crowd of 48 spheres about one point (`tests/instances.rs`) took 65
+// samples a ray, missing silhouettes, with one budget for all. `steps` counts every sample.
+// Where a full list left nodes out (`ray_resume`), the ray lists again from there, up to the
+// nearest hit so far, and marches those too. The instance hit (0: the other children, or
+// none) is kept for the normal and the material (`ray_end_leaf`), and the t for the other
+// normals' samples (`ray_hit`).
 fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     let span = ray_span(ro, rd);
     // The nearest hit so far, and its instance's leaf word.
@@ -106,7 +110,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     if start != 0u {
         // More than one list (the root is never left out), and the last does not hold the
         // instances of the ones before it: the central and forward normals' samples at the
-        // end take the walk (`ray_walk`).
+        // end take the walk (`ray_nearest`).
         ray_lo = 3.0e38;
     }
     ray_end_leaf = best_leaf;

@@ -392,7 +392,7 @@ fn instances_union_wgsl() {
             .count(),
         1
     );
-    assert!(!c.wgsl.contains("fn march_listed(") && !c.wgsl.contains("march_distance(ro"));
+    assert!(!c.wgsl.contains("fn march_rest("));
     assert!(c.wgsl.contains("let leaf = ray_end_leaf;"));
     assert!(!c.wgsl.contains("normal_nearest(end)"));
     assert!(c.wgsl.contains("normal_sample(p + k[i] * h, leaf)"));
@@ -417,16 +417,24 @@ fn instances_union_wgsl() {
         "the same instances"
     );
     assert!(c.wgsl.contains("scene_params = frame.params;"));
-    // The other children's march is the union's: one loop over the ray's list, the walk and
-    // the other children at each sample (`shaders/march_merged.wgsl` through `ray_walk`), and
-    // the tetrahedron normal finds the instance nearest the march's end.
+    // The other children are marched first, alone (`march_rest`, a plane's and a shell's
+    // cheap distance: refined in a loop of its own), then the listed instances one by one
+    // up to their hit; the tetrahedron normal samples what the march hit.
+    assert!(c.wgsl.contains("let rest = march_rest(ro, rd, pixel);"));
     assert!(c
         .wgsl
-        .contains("ray_start(ro, rd, span.x, span.y, pixel, 0u);"));
-    assert_eq!(c.wgsl.matches("fn march_listed(").count(), 1);
-    assert_eq!(c.wgsl.matches("march_distance(ro + rd * t, t)").count(), 1);
-    assert!(c.wgsl.contains("let leaf = normal_nearest(end).leaf;"));
-    assert!(!c.wgsl.contains("instance_distance(ro + rd * t, leaf)"));
+        .contains("ray_start(ro, rd, span.x, best, pixel, start);"));
+    assert_eq!(c.wgsl.matches("rest_distance(ro + rd * t)").count(), 2);
+    assert_eq!(
+        c.wgsl
+            .matches("instance_distance(ro + rd * t, leaf)")
+            .count(),
+        1
+    );
+    assert!(c.wgsl.contains("let leaf = ray_end_leaf;"));
+    assert!(c
+        .wgsl
+        .contains("select(rest_distance(p), instance_distance(p, max(leaf, 1u)), leaf != 0u)"));
     let cut = |from: &str, to: &str| {
         let start = c.wgsl.find(from).expect(from);
         let start = c.wgsl[..start].rfind("\n\n").expect("its comment") + 2;

@@ -1,8 +1,9 @@
-//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): a union of instances alone
-//! read as data marches its ray's listed instances one by one, refining in the same loop
-//! (`shaders/march_instances.wgsl`); where the distance is otherwise dear (a mixed union
-//! read as data, whose distance is a walk of the ray's list; noise, a fractal, a union of
-//! dozens of shapes as code) the march refines in its stepping loop
+//! Which marcher a scene's shader gets (`sdfc_wgsl::marcher`): a union read as data marches
+//! its ray's listed instances one by one, refining in the same loop
+//! (`shaders/march_instances.wgsl`), after a mixed union's other children alone
+//! (`march_rest`, with the loops their distance's cost picks); where the distance is
+//! otherwise dear (noise, a fractal, a union of dozens of shapes as code) the march refines
+//! in its stepping loop
 //! (`shaders/march_merged.wgsl`: one copy of the distance in the march, not two), while a
 //! cheap distance refines in a loop of its own (`shaders/refine.wgsl`), with the plain step
 //! or the relaxed one in either. Both loops draw the same pictures (the render tests against
@@ -32,31 +33,46 @@ fn a_union_read_as_data_refines_in_the_stepping_loop() {
         1
     );
     assert!(alone.contains("r = refine_start(t, d, eps);"));
-    assert!(!alone.contains("fn march_listed("));
+    assert!(!alone.contains("fn march_rest("));
     // No refinement loop of its own, so no dead copy of it either.
     assert!(!alone.contains("fn refine("));
-    // With a floor beside the instances: the union's march over the ray's list.
+    // With a floor beside the instances: the floor marched first, alone, and cheap (a
+    // plane), so with its refinement in a loop of its own; then the instances as above.
     let mixed = wgsl_with_floor(AUTO_INSTANCES, "");
-    assert!(
-        mixed.contains("fn march_listed("),
-        "not the mixed data form"
+    assert!(mixed.contains("scene_data"), "not the data form");
+    assert!(mixed.contains("let rest = march_rest(ro, rd, pixel);"));
+    assert_eq!(mixed.matches("rest_distance(ro + rd * t)").count(), 2);
+    assert!(mixed.contains("fn refine("));
+    assert_eq!(
+        mixed
+            .matches("instance_distance(ro + rd * t, leaf)")
+            .count(),
+        1
     );
-    assert_eq!(mixed.matches("march_distance(ro + rd * t, t)").count(), 1);
     assert!(mixed.contains("r = refine_start(t, d, eps);"));
-    assert!(!mixed.contains("fn refine("));
+    // With a fractal beside them instead, the fractal's march refines in its stepping loop.
+    let fractal = wgsl_beside(AUTO_INSTANCES, "", "menger(4).translate([0, 0, 20])");
+    assert!(fractal.contains("let rest = march_rest(ro, rd, pixel);"));
+    assert_eq!(fractal.matches("rest_distance(ro + rd * t)").count(), 1);
+    assert!(!fractal.contains("fn refine("));
 }
 
 /// [`wgsl`] with a floor plane beside the grid's shapes (a mixed union: the plane stays
 /// code).
 fn wgsl_with_floor(n: usize, render: &str) -> String {
+    wgsl_beside(n, render, "plane([0, 1, 0], -1)")
+}
+
+/// [`wgsl`] with `shape` beside the grid's shapes (a mixed union: `shape` stays code).
+fn wgsl_beside(n: usize, render: &str, shape: &str) -> String {
     let source = format!("{}\n{render}\n", grid_scene(n)).replacen(
         "scene = union(\n",
-        "scene = union(\n    plane([0, 1, 0], -1),\n",
+        &format!("scene = union(\n    {shape},\n"),
         1,
     );
-    assert!(source.contains("plane("), "the grid's union has changed");
+    assert!(source.contains(shape), "the grid's union has changed");
     compile(&source, &Options::default())
-        .unwrap_or_else(|f| panic!("grid of {n} with a floor: {f}"))
+        .unwrap_or_else(|f| panic!("grid of {n} beside {shape}: {f}"))
         .wgsl
 }
 
@@ -79,11 +95,16 @@ const RELAXED_STEP: &str = "0.95 * 2.0 / (1.0 + slope)";
 
 #[test]
 fn relaxation_takes_its_step_in_either_loop() {
-    // A dear distance: the merged loop with the relaxed step, one sample of the list.
-    let dear = wgsl_with_floor(AUTO_INSTANCES, "render { relaxation: 1.6 }");
-    assert!(dear.contains("fn march_listed("), "not the data form");
+    // A dear distance: the merged loop with the relaxed step (a fractal beside the
+    // instances, marched alone first).
+    let dear = wgsl_beside(
+        AUTO_INSTANCES,
+        "render { relaxation: 1.6 }",
+        "menger(4).translate([0, 0, 20])",
+    );
+    assert!(dear.contains("fn march_rest("), "not the mixed data form");
     assert!(dear.contains(RELAXED_STEP));
-    assert_eq!(dear.matches("march_distance(ro + rd * t, t)").count(), 1);
+    assert_eq!(dear.matches("rest_distance(ro + rd * t)").count(), 1);
     assert!(dear.contains("r = refine_start(t, d, eps);"));
     assert!(!dear.contains("fn refine("));
     // Instances alone: each marched with the relaxed step.

@@ -210,7 +210,8 @@ fn a_grid_far_from_the_origin_as_data_draws_as_code_does() {
 }
 
 /// The grid with a floor and a shell among its shapes: a mixed union, whose other children
-/// stay code beside the walk (`rest_distance`), near the origin and 1e5 from it.
+/// stay code (`rest_distance`), marched first alone (`march_rest`), near the origin and 1e5
+/// from it.
 fn mixed_grid(offset: f64) -> String {
     let src = close_grid(120, offset);
     let head = "scene = translate(union(\n";
@@ -248,11 +249,29 @@ fn a_mixed_union_as_data_draws_with_every_shading_feature() {
          ao: ao(samples: 4, step: 0.08, strength: 1.0, falloff: 0.7) }\nscene = translate(",
     );
     let c = compile_as_data("shaded", &src);
-    assert!(c.wgsl.contains("fn rest_distance(") && c.wgsl.contains("fn march_listed("));
+    assert!(c.wgsl.contains("fn rest_distance(") && c.wgsl.contains("fn march_rest("));
     // Four edges: the relaxed marcher's path (docs/performance.md, "Relaxation") parts the
     // two forms on 3 pixels at 64x48, one of them farther from the reference in the data
     // form, whose picture is nearer it (PSNR 37.8 against 36.3 dB, the same hits).
     check_allowing("mixed grid_120, shaded", &src, 4);
+}
+
+/// The grid with a Menger sponge among its shapes, in front of some and behind others: the
+/// other child is dear, so its march alone refines in its stepping loop, and the
+/// instances' marches stop at its hit. With central normals, whose samples go through the
+/// ray's list and the other child at the march's end (`normal_nearest`), where the
+/// tetrahedron's take what the march hit alone.
+#[test]
+fn a_mixed_union_with_a_fractal_and_central_normals() {
+    let head = "scene = translate(union(\n";
+    let src = close_grid(120, 0.0).replace(
+        head,
+        &format!("render {{ normals: central }}\n{head}    menger(3).scale(2.5).translate([-2.2, 1.6, -0.6]),\n"),
+    );
+    assert!(src.contains("menger(3)"));
+    let c = compile_as_data("fractal", &src);
+    assert!(c.wgsl.contains("fn march_rest(") && !c.wgsl.contains("fn refine("));
+    check("mixed grid_120 with a sponge", &src);
 }
 
 /// A block of spheres 4 wide, 4 high and 40 deep, seen along its depth from just in front:

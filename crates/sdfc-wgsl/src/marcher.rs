@@ -22,15 +22,17 @@ pub struct View<'a> {
     /// The box shadow rays stop at ([`shadow_slabs`]).
     pub shadow: [Slab; 3],
     /// Whether the union is read as data (`shaders/instances_rays.wgsl`): each march lists
-    /// the instances its ray passes first. A mixed union's march then samples
-    /// `march_distance` and its tetrahedron normal the instance nearest the end
-    /// (`normal_sample`); the central and forward normals sample `normal_distance` near the
-    /// march's end; shadows and AO keep `scene_distance`.
+    /// the instances its ray passes, then marches them one by one, each alone
+    /// (`shaders/march_instances.wgsl`), and keeps the instance it hit for the tetrahedron
+    /// normal (`normal_sample`) and the material (`end_leaf`); the central and forward
+    /// normals sample `normal_distance` near the march's end; shadows and AO keep
+    /// `scene_distance`.
     pub ray_lists: bool,
-    /// Whether that union is instances alone (no other children): each ray then marches its
-    /// listed instances one by one (`shaders/march_instances.wgsl`), and the march keeps the
-    /// instance it hit for the normal and the material.
-    pub per_instance: bool,
+    /// Where the union read as data has other children (a floor, a fractal): those are
+    /// marched first, on their own (`march_rest`), and their hit bounds the instances'
+    /// lists and marches. `Some(dear)`: whether their distance is dear, which picks their
+    /// march's loops as [`View::dear`] picks the scene's.
+    pub rest: Option<bool>,
     /// Whether the scene's distance is trusted never to exceed the true distance
     /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
     /// more finely (`touch_distance` in `shaders/hit.wgsl`).
@@ -51,31 +53,15 @@ pub struct View<'a> {
 /// still does.
 const RAY_SAMPLE: &str = "scene_distance(ro + rd * t)";
 
-/// A marcher part with its samples along the ray taken as `view` asks: through the ray's
-/// list where the union is data, through `scene_distance_ray` where the scene has it, else
-/// as written.
+/// A marcher part with its samples along the ray taken as `view` asks: through
+/// `scene_distance_ray` where the scene has it, else as written.
 fn sampled(part: &str, view: &View) -> String {
-    if view.ray_lists {
-        part.replace(RAY_SAMPLE, "march_distance(ro + rd * t, t)")
-    } else if view.along_ray {
+    if view.along_ray {
         part.replace(RAY_SAMPLE, "scene_distance_ray(ro + rd * t, rd)")
     } else {
         part.to_string()
     }
 }
-
-/// The march with the ray's list made first and the end's t kept for the normal.
-const MARCH_LISTED: &str = "
-// The march of one ray: the instances it passes listed first (`ray_start`), and the t where
-// it ends kept for the normal there.
-fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
-    let span = ray_span(ro, rd);
-    ray_start(ro, rd, span.x, span.y, pixel, 0u);
-    let hit = march_listed(ro, rd, pixel);
-    ray_hit = hit.t;
-    return hit;
-}
-";
 
 pub fn emit(scene: &Scene, view: &View) -> String {
     let mut s = String::new();
@@ -90,21 +76,23 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += &distance_trusted(view.trusted);
     s += "\n";
     let marcher = Marcher::for_scene(scene, view);
-    if !marcher.merged {
+    if !marcher.merged && !view.ray_lists {
         // The two-loop marcher's refinement loop (the merged one refines in its own).
         s += &sampled(parts::REFINE, view);
         s += "\n";
     }
     s += marcher.step();
     s += "\n";
-    if view.per_instance {
+    if view.ray_lists {
         // Its own loop, which refines in it as the merged one does: an instance read from
         // the data is dear beside the loop's bookkeeping.
-        s += parts::MARCH_INSTANCES;
-    } else if view.ray_lists {
-        let march = sampled(marcher.loops(), view);
-        s += &march.replacen("fn march(", "fn march_listed(", 1);
-        s += MARCH_LISTED;
+        match view.rest {
+            None => s += parts::MARCH_INSTANCES,
+            Some(dear) => {
+                s += &march_rest(dear);
+                s += &parts::MARCH_INSTANCES.replacen(MARCH_ALONE_HEAD, MARCH_REST_HEAD, 1);
+            }
+        }
     } else {
         s += &sampled(marcher.loops(), view);
     }
@@ -123,7 +111,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         Normals::Analytic => None,
     } {
         if view.ray_lists {
-            s += &normal_listed(part, scene.render.normals, view.per_instance);
+            s += &normal_listed(part, scene.render.normals);
         } else {
             s += part;
         }
@@ -152,10 +140,46 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     s += "\n";
     let main = analytic_surface_normal(parts::MAIN, analytic);
     if view.ray_lists {
-        s += &end_leaf(&main_blocks(&main), scene.render.normals, view.per_instance);
+        s += &end_leaf(&main_blocks(&main));
     } else {
         s += &main;
     }
+    s
+}
+
+/// The start of the march of a union of instances alone (`shaders/march_instances.wgsl`):
+/// no hit yet, no sample taken. A test checks it is there.
+const MARCH_ALONE_HEAD: &str = "    var best = span.y;
+    var found = false;
+    var best_leaf = 0u;
+    var steps = 0u;
+";
+
+/// The same march's start for a mixed union: the other children's march first
+/// (`march_rest`), whose hit, where it has one, is the nearest so far.
+const MARCH_REST_HEAD: &str =
+    "    // The union's other children first, on their own (`march_rest`): their hit bounds
+    // the lists and the instances' marches.
+    let rest = march_rest(ro, rd, pixel);
+    var best = select(span.y, rest.t, rest.hit);
+    var found = rest.hit;
+    var best_leaf = 0u;
+    var steps = rest.steps;
+";
+
+/// The march of a mixed union's other children alone (`rest_distance`), over the same span:
+/// the scene's own march (and refinement), merged where their distance is `dear`.
+fn march_rest(dear: bool) -> String {
+    let rest = |part: &str| part.replace(RAY_SAMPLE, "rest_distance(ro + rd * t)");
+    let mut s = String::new();
+    if dear {
+        s += &rest(parts::MARCH_MERGED).replacen("fn march(", "fn march_rest(", 1);
+    } else {
+        s += &rest(parts::REFINE);
+        s += "\n";
+        s += &rest(parts::MARCH_TWO_LOOPS).replacen("fn march(", "fn march_rest(", 1);
+    }
+    s += "\n";
     s
 }
 
@@ -199,46 +223,25 @@ impl Marcher {
     }
 }
 
-/// The tetrahedron normal's loop as `shaders/normals/tetrahedron.wgsl` writes it, with its
-/// function's head, and the entry point's call of it; a test checks all three are there.
-const TETRAHEDRON_HEAD: &str = "fn scene_normal(p: vec3<f32>, h: f32) -> vec3<f32> {";
+/// The tetrahedron normal's loop as `shaders/normals/tetrahedron.wgsl` writes it; a test
+/// checks it is there.
 const TETRAHEDRON_LOOP: &str = "    for (var i = 0u; i < 4u; i = i + 1u) {
         n = n + k[i] * scene_distance(p + k[i] * h);
     }";
-const NORMAL_CALL: &str = "scene_normal(round(q / h) * h, h)";
 
-/// A difference normal's part for a union read as data: its samples through the ray's list
-/// (`normal_distance`), but the tetrahedron's. That one asks the list once, at the march's
-/// end `end` itself (not rounded to the step), for the nearest instance, keeps its leaf word
-/// for the material (`end_leaf`; one `normal_nearest` for both instead of two drew the
-/// 300-shape grid 1.04x to 1.08x faster on lavapipe, which runs every inlined copy of the
-/// list's loop under masks), and samples that instance's distance alone (`normal_sample` in
-/// `shaders/instances_ends.wgsl`: 1.07x to 1.09x more, the same pictures; docs/performance.md,
-/// "The normal from the nearest instance"). Where each instance is marched alone
-/// (`per_instance`), the march kept the instance it hit, and the samples take that one: the
-/// function keeps its head, and asks no list.
-fn normal_listed(part: &str, normals: Normals, per_instance: bool) -> String {
-    if normals == Normals::Tetrahedron && per_instance {
+/// A difference normal's part for a union read as data. The tetrahedron's samples take the
+/// distance of what the march hit alone (`normal_sample`, `shaders/instances_ends.wgsl`):
+/// the march kept its instance (`ray_end_leaf`; 0 for a mixed union's other children), where
+/// a sample through the ray's list cost a copy of the list's loop (on lavapipe every inlined
+/// copy runs, under masks; docs/performance.md, "The normal from the nearest instance"). The
+/// central and forward normals' samples go through the ray's list (`normal_distance`).
+fn normal_listed(part: &str, normals: Normals) -> String {
+    if normals == Normals::Tetrahedron {
         part.replace(
             TETRAHEDRON_LOOP,
-            "    // The instance the march hit (`shaders/march_instances.wgsl`); the samples take
-    // its distance alone (`normal_sample`).
+            "    // What the march hit (`shaders/march_instances.wgsl`); the samples take its
+    // distance alone (`normal_sample`).
     let leaf = ray_end_leaf;
-    for (var i = 0u; i < 4u; i = i + 1u) {
-        n = n + k[i] * normal_sample(p + k[i] * h, leaf);
-    }",
-        )
-    } else if normals == Normals::Tetrahedron {
-        part.replace(
-            TETRAHEDRON_HEAD,
-            "fn scene_normal(p: vec3<f32>, h: f32, end: vec3<f32>) -> vec3<f32> {",
-        )
-        .replace(
-            TETRAHEDRON_LOOP,
-            "    // The instance nearest the march's end `end` (not rounded), for the material too
-    // (`end_leaf`); the samples take its distance alone (`normal_sample`).
-    let leaf = normal_nearest(end).leaf;
-    ray_end_leaf = leaf;
     for (var i = 0u; i < 4u; i = i + 1u) {
         n = n + k[i] * normal_sample(p + k[i] * h, leaf);
     }",
@@ -270,30 +273,13 @@ fn main_blocks(main: &str) -> String {
 }
 
 /// The entry point's part for a union read as data, and `end_leaf`, the leaf word of the
-/// instance nearest the march's end that `scene_material` takes: the tetrahedron normal
-/// found it before its samples (both radiance parts take the normal at a surface point
-/// before its material), the other normals leave it to a call of its own. Where each
-/// instance is marched alone (`per_instance`), the march kept the instance it hit.
-fn end_leaf(main: &str, normals: Normals, per_instance: bool) -> String {
-    if per_instance {
-        return format!(
-            "{main}\n// The leaf word of the instance the march hit, ending at p (0 if none): for its\n\
-             // material. The march kept it (`shaders/march_instances.wgsl`).\n\
-             fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n"
-        );
-    }
-    let doc = "// The leaf word of the instance nearest p, the march's end (0 if none is): for its\n// material.\n";
-    if normals == Normals::Tetrahedron {
-        format!(
-            "{}\n{doc}// The normal found it at p before its samples (`scene_normal`).\n\
-             fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n",
-            main.replace(NORMAL_CALL, "scene_normal(round(q / h) * h, h, p)")
-        )
-    } else {
-        format!(
-            "{main}\n{doc}fn end_leaf(p: vec3<f32>) -> u32 {{\n    return normal_nearest(p).leaf;\n}}\n"
-        )
-    }
+/// instance the march hit that `scene_material` takes: the march kept it.
+fn end_leaf(main: &str) -> String {
+    format!(
+        "{main}\n// The leaf word of the instance the march hit, ending at p (0 if none): for its\n\
+         // material. The march kept it (`shaders/march_instances.wgsl`).\n\
+         fn end_leaf(p: vec3<f32>) -> u32 {{\n    return ray_end_leaf;\n}}\n"
+    )
 }
 
 /// The entry point's part with its `surface_normal` (difference normals at a rounded point)
@@ -688,8 +674,8 @@ fn finish(scene: &Scene) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        analytic_surface_normal, end_leaf, main_blocks, normal_listed, sampled, Slab, View,
-        MAIN_FRAME, MAIN_RAY, NORMAL_CALL, RAY_SAMPLE, TETRAHEDRON_HEAD, TETRAHEDRON_LOOP,
+        analytic_surface_normal, end_leaf, main_blocks, march_rest, normal_listed, sampled, Slab,
+        View, MAIN_FRAME, MAIN_RAY, MARCH_ALONE_HEAD, RAY_SAMPLE, TETRAHEDRON_LOOP,
     };
     use crate::parts;
     use sdfc_ir::scene::Normals;
@@ -702,7 +688,7 @@ mod tests {
             bounds: ([0.0; 3], [0.0; 3]),
             shadow: [Slab { lo: None, hi: None }; 3],
             ray_lists,
-            per_instance: false,
+            rest: None,
             trusted: true,
             outside: 1.0,
             dear: ray_lists,
@@ -723,23 +709,16 @@ mod tests {
     }
 
     /// `sampled` finds its text in every part it rewrites: were a part's ray sample written
-    /// differently, its march would silently keep the isotropic bound (`scene_distance_ray`)
-    /// or walk the whole hierarchy at every step (the ray's list of a union read as data).
-    /// And each difference normal samples `scene_distance(p + ...)`, which `emit` rewrites
-    /// for the list (`normal_listed`).
+    /// differently, its march would silently keep the isotropic bound (`scene_distance_ray`),
+    /// or a mixed union's other children's march (`march_rest`) would sample the whole
+    /// union. And each difference normal samples `scene_distance(p + ...)`, which `emit`
+    /// rewrites for the list (`normal_listed`).
     #[test]
     fn every_ray_sampling_part_is_rewritten() {
         for part in [parts::REFINE, parts::MARCH_TWO_LOOPS, parts::MARCH_MERGED] {
-            for (v, call) in [
-                (view(true, false), "scene_distance_ray(ro + rd * t, rd)"),
-                (view(false, true), "march_distance(ro + rd * t, t)"),
-            ] {
-                let rewritten = sampled(part, &v);
-                assert!(rewritten.contains(call), "{call}");
-                assert!(!rewritten.contains(RAY_SAMPLE), "{call}");
-            }
-            // The list's march and refinement never sample the whole union.
-            assert!(!sampled(part, &view(false, true)).contains("scene_distance("));
+            let rewritten = sampled(part, &view(true, false));
+            assert!(rewritten.contains("scene_distance_ray(ro + rd * t, rd)"));
+            assert!(!rewritten.contains(RAY_SAMPLE));
             assert_eq!(sampled(part, &view(false, false)), part);
         }
         for part in [
@@ -751,26 +730,49 @@ mod tests {
         }
     }
 
-    /// For a union read as data, the tetrahedron normal finds the material's instance at the
-    /// point the entry point passes (the march's end) before its samples, which take that
-    /// instance alone, and `end_leaf` reads it; the other normals sample through the list and
-    /// leave the material a call of its own. Were the texts rewritten here written
-    /// differently, the shader would not build (`end_leaf` reads a leaf nothing sets): so
-    /// each must be there.
+    /// A mixed union's other children are marched first, alone, with the scene's loops
+    /// (merged where their distance is dear, else with the refinement's own loop), and the
+    /// instances' march starts from their hit. Were the texts rewritten here written
+    /// differently, the instances' march would ignore the other children: so each must be
+    /// there.
     #[test]
-    fn the_tetrahedron_normal_finds_the_material_of_a_union_read_as_data() {
-        assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_HEAD));
+    fn a_mixed_union_marches_its_other_children_first() {
+        assert_eq!(parts::MARCH_INSTANCES.matches(MARCH_ALONE_HEAD).count(), 1);
+        for dear in [true, false] {
+            let rest = march_rest(dear);
+            assert_eq!(rest.matches("fn march_rest(").count(), 1);
+            assert!(!rest.contains("fn march("));
+            assert!(!rest.contains(RAY_SAMPLE));
+            assert_eq!(rest.contains("fn refine("), !dear);
+            let samples = if dear { 1 } else { 2 };
+            assert_eq!(
+                rest.matches("rest_distance(ro + rd * t)").count(),
+                samples,
+                "{rest}"
+            );
+        }
+    }
+
+    /// For a union read as data, the tetrahedron normal samples what the march hit alone,
+    /// and `end_leaf` reads the instance the march kept; the other normals sample through
+    /// the list. Were the texts rewritten here written differently, the shader would not
+    /// build or would sample the whole union: so each must be there.
+    #[test]
+    fn the_normal_and_the_material_of_a_union_read_as_data_take_what_the_march_hit() {
         assert!(parts::NORMALS_TETRAHEDRON.contains(TETRAHEDRON_LOOP));
-        assert_eq!(parts::MAIN.matches(NORMAL_CALL).count(), 1);
-        let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron, false);
-        assert!(tetrahedron.contains("end: vec3<f32>"));
-        assert!(tetrahedron.contains("let leaf = normal_nearest(end).leaf;"));
-        assert!(tetrahedron.contains("ray_end_leaf = leaf;"));
+        let tetrahedron = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron);
+        assert!(tetrahedron.contains("let leaf = ray_end_leaf;"));
         assert!(tetrahedron.contains("normal_sample(p + k[i] * h, leaf)"));
-        assert_eq!(tetrahedron.matches("normal_nearest(").count(), 1);
-        assert!(!tetrahedron.contains("scene_distance("));
-        let main = end_leaf(parts::MAIN, Normals::Tetrahedron, false);
-        assert!(main.contains("scene_normal(round(q / h) * h, h, p)"));
+        assert!(
+            !tetrahedron.contains("normal_nearest(") && !tetrahedron.contains("scene_distance(")
+        );
+        for (part, normals) in [
+            (parts::NORMALS_CENTRAL, Normals::Central),
+            (parts::NORMALS_FORWARD, Normals::Forward),
+        ] {
+            let listed = normal_listed(part, normals);
+            assert!(listed.contains("normal_distance(p + ") && !listed.contains("scene_distance("));
+        }
         // The entry point finds its block's candidates and marks each sample's march a
         // camera ray's (`main_blocks`).
         assert_eq!(parts::MAIN.matches(MAIN_FRAME).count(), 1);
@@ -778,34 +780,12 @@ mod tests {
         let blocks = main_blocks(parts::MAIN);
         assert!(blocks.contains("    load_frame();\n    ray_blocks(gid);\n"));
         assert!(blocks.contains("fsize);\n        ray_primary = true;\n"));
-        assert!(main.contains("return ray_end_leaf;"));
-        for (part, normals) in [
-            (parts::NORMALS_CENTRAL, Normals::Central),
-            (parts::NORMALS_FORWARD, Normals::Forward),
-        ] {
-            let listed = normal_listed(part, normals, false);
-            assert!(listed.contains("normal_distance(p + ") && !listed.contains("scene_distance("));
-            let main = end_leaf(parts::MAIN, normals, false);
-            assert!(main.contains(NORMAL_CALL) && main.contains("return normal_nearest(p).leaf;"));
-            // Each instance marched alone: the march kept the instance it hit.
-            let main = end_leaf(parts::MAIN, normals, true);
-            assert!(main.contains(NORMAL_CALL) && main.contains("return ray_end_leaf;"));
-            assert_eq!(normal_listed(part, normals, true), listed);
-        }
-        // Each instance marched alone: the tetrahedron normal samples the instance the march
-        // hit, which the march keeps (`shaders/march_instances.wgsl`), and asks no list.
-        let alone = normal_listed(parts::NORMALS_TETRAHEDRON, Normals::Tetrahedron, true);
-        assert!(alone.contains("let leaf = ray_end_leaf;"));
-        assert!(alone.contains("normal_sample(p + k[i] * h, leaf)"));
-        assert!(!alone.contains("normal_nearest(") && !alone.contains("scene_distance("));
-        assert!(alone.contains(TETRAHEDRON_HEAD));
-        let main = end_leaf(parts::MAIN, Normals::Tetrahedron, true);
-        assert!(main.starts_with(parts::MAIN) && main.contains(NORMAL_CALL));
-        assert!(main.contains("return ray_end_leaf;"));
+        let main = end_leaf(parts::MAIN);
+        assert!(main.starts_with(parts::MAIN) && main.contains("return ray_end_leaf;"));
         assert!(parts::MARCH_INSTANCES.contains("ray_end_leaf = best_leaf;"));
         assert!(parts::MARCH_INSTANCES.contains("instance_distance(ro + rd * t, leaf)"));
-        // `end_leaf` is what the normal found at the same point: both radiance parts take
-        // a surface point's normal before its material.
+        // `end_leaf` is what the march hit at the same point: both radiance parts take a
+        // surface point's normal before its material.
         for part in [parts::RADIANCE_PLAIN, parts::RADIANCE_REFLECTIONS] {
             let normal = part.find("surface_normal(p,").expect("a normal at p");
             let material = part.find("scene_material(p)").expect("a material at p");

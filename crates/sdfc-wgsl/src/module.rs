@@ -238,7 +238,7 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             bounds,
             shadow: marcher::shadow_slabs(bounds, frame.origin, data_root),
             ray_lists: instances.is_some(),
-            per_instance: instances.is_some_and(|plan| plan.rest.is_none()),
+            rest: rest.map(|r| crate::dear::is_dear(&r.distance, &r.groups)),
             trusted: p.analysis.distance_trusted(&p.scene),
             outside: p.analysis.outside_factor(&p.scene),
             feature: p.analysis.feature,

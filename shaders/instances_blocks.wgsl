@@ -91,7 +91,7 @@ fn blocks_main(@builtin(global_invocation_id) invocation: vec3<u32>) {
         let w = scene_data[2u * i + 1u];
         let c = bitcast<vec3<f32>>(a.xyz);
         let half = bitcast<vec3<f32>>(w.xyz);
-        let h = ray_padded(c, half, ro, pixel);
+        let h = ray_padded(c, half, ro, pixel, 0.0);
         let rel = c - ro;
         let slack = -1e-5 * (length(rel) + length(h));
         var inside = true;

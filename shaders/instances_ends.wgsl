@@ -1,4 +1,5 @@
-// The signed distance from p to the scene, anywhere (shadows, ambient occlusion): the walk.
+// The signed distance from p to the scene, anywhere (ambient occlusion; soft shadows where
+// no padding of their lists can hold their cones, `shadows.rs` in sdfc-wgsl): the walk.
 // The march takes each listed instance alone instead (`shaders/march_instances.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
     return scene_nearest(p, 3.0e38).distance;

@@ -1,4 +1,5 @@
-// The signed distance from p to the scene, anywhere (shadows, ambient occlusion). The other
+// The signed distance from p to the scene, anywhere (ambient occlusion; soft shadows where
+// no padding of their lists can hold their cones, `shadows.rs` in sdfc-wgsl). The other
 // children's distance comes first: the walk then skips every part no nearer than it. The
 // march takes the other children alone (`march_rest`), then each listed instance alone
 // (`shaders/march_instances.wgsl`).

@@ -33,11 +33,13 @@ fn ray_margin(t: f32) -> f32 {
 }
 
 // The half size of a node's box (centre c, half size `half`) padded for rays from ro: a
-// quarter of the surface threshold at the box's far side, and 1e-3 (`ray_start`). The
-// blocks' pass pads by the same (`shaders/instances_blocks.wgsl`), so that its candidates
-// hold every box a camera ray lists.
-fn ray_padded(c: vec3<f32>, half: vec3<f32>, ro: vec3<f32>, pixel: f32) -> vec3<f32> {
-    return half + 0.25 * march_threshold(length(c - ro) + length(half), pixel) + 1e-3;
+// quarter of the surface threshold at the box's far side, `reach` times that side's t, and
+// 1e-3 (`ray_start`; shadow rays' thresholds and cones grow with t, the march's `reach` is
+// 0). The blocks' pass pads by the same (`shaders/instances_blocks.wgsl`), so that its
+// candidates hold every box a camera ray lists.
+fn ray_padded(c: vec3<f32>, half: vec3<f32>, ro: vec3<f32>, pixel: f32, reach: f32) -> vec3<f32> {
+    let far = length(c - ro) + length(half);
+    return half + 0.25 * march_threshold(far, pixel) + reach * far + 1e-3;
 }
 
 // Lists the instances whose boxes the ray from ro along rd passes through between t0 and
@@ -59,7 +61,7 @@ fn ray_padded(c: vec3<f32>, half: vec3<f32>, ro: vec3<f32>, pixel: f32) -> vec3<
 // of entry, and the list is sorted once after the walk, where an insertion at each leaf had
 // a loop inside the walk's (llvmpipe runs a loop's first trip even where no lane needs it:
 // 1.06x faster from close by on the 300-shape grid, docs/performance.md).
-fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, start: u32) {
+fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, reach: f32, start: u32) {
     ray_pixel = pixel;
     var resume = NO_RESUME;
     // A zero component makes its slab's bounds infinite: the ray is inside it or never.
@@ -96,7 +98,7 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, start: 
         let b = scene_data[2u * node + 1u];
         let c = bitcast<vec3<f32>>(a.xyz);
         let half = bitcast<vec3<f32>>(b.xyz);
-        let h = ray_padded(c, half, ro, pixel);
+        let h = ray_padded(c, half, ro, pixel, reach);
         let ta = (c - h - ro) * inv;
         let tb = (c + h - ro) * inv;
         let tn = min(ta, tb);

@@ -33,7 +33,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     // The node the list starts at: the root, then where a full list stopped.
     var start = 0u;
     loop {
-        ray_start(ro, rd, span.x, best, pixel, start);
+        ray_start(ro, rd, span.x, best, pixel, 0.0, start);
         // The list's next entry, the leaf word of the one being marched, where its stretch
         // ends, and whether it is done (a hit found, or none before no entry is left).
         var k = 0u;

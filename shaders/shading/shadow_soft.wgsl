@@ -1,6 +1,5 @@
 // Soft shadow (Quilez): the narrowest cone around the shadow ray that the scene leaves free,
-// relative to SHADOW_K; 1 is fully lit, 0 fully shadowed. Steps never shrink below a small
-// fraction of t, so grazing rays cannot stall.
+// relative to SHADOW_K (`shadow_sampled`); 1 is fully lit, 0 fully shadowed.
 //
 // The ray stops once the cone has left the scene's bounds for good. Outside the (convex) box
 // the scene's distance is at least OUTSIDE_FACTOR times the distance to the box (1 for an
@@ -17,8 +16,7 @@ fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
             break;
         }
         let q = ro + rd * t;
-        let h = scene_distance(q);
-        light = min(light, SHADOW_K * h / max(t, 1e-6));
+        let step = shadow_sampled(&light, scene_distance(q), t);
         if light <= 0.0 {
             return 0.0;
         }
@@ -27,7 +25,7 @@ fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
         if reach * out > t && reach * dot(v, rd) >= out {
             break;
         }
-        t = t + max(h, 1e-3 * t + 1e-5);
+        t = t + step;
     }
     return clamp(light, 0.0, 1.0);
 }

@@ -385,7 +385,7 @@ fn instances_union_wgsl() {
     // material's (`end_leaf`).
     assert!(c
         .wgsl
-        .contains("ray_start(ro, rd, span.x, best, pixel, start);"));
+        .contains("ray_start(ro, rd, span.x, best, pixel, 0.0, start);"));
     assert_eq!(
         c.wgsl
             .matches("instance_distance(ro + rd * t, leaf)")
@@ -423,7 +423,7 @@ fn instances_union_wgsl() {
     assert!(c.wgsl.contains("let rest = march_rest(ro, rd, pixel);"));
     assert!(c
         .wgsl
-        .contains("ray_start(ro, rd, span.x, best, pixel, start);"));
+        .contains("ray_start(ro, rd, span.x, best, pixel, 0.0, start);"));
     assert_eq!(c.wgsl.matches("rest_distance(ro + rd * t)").count(), 2);
     assert_eq!(
         c.wgsl

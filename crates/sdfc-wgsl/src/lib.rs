@@ -53,6 +53,7 @@ pub mod module;
 mod options;
 pub mod parts;
 pub mod screen;
+mod shadows;
 pub mod validate;
 
 pub use options::{check_import_path, Instances, Options, AUTO_CROWD, AUTO_INSTANCES};

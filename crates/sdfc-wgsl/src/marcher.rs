@@ -25,8 +25,8 @@ pub struct View<'a> {
     /// the instances its ray passes, then marches them one by one, each alone
     /// (`shaders/march_instances.wgsl`), and keeps the instance it hit for the tetrahedron
     /// normal (`normal_sample`) and the material (`end_leaf`); the central and forward
-    /// normals sample `normal_distance` near the march's end; shadows and AO keep
-    /// `scene_distance`.
+    /// normals sample `normal_distance` near the march's end; shadow rays are listed and
+    /// marched instance by instance too (`crate::shadows`), AO keeps `scene_distance`.
     pub ray_lists: bool,
     /// Where the union read as data has other children (a floor, a fractal): those are
     /// marched first, on their own (`march_rest`), and their hit bounds the instances'
@@ -117,13 +117,7 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         }
         s += "\n";
     }
-    match scene.render.shadows {
-        Shadows::None => {}
-        Shadows::Hard => s += &format!("{}\n{}\n", bounds_outside(view, true), parts::SHADOW_HARD),
-        Shadows::Soft(_) => {
-            s += &format!("{}\n{}\n", bounds_outside(view, false), parts::SHADOW_SOFT)
-        }
-    }
+    s += &crate::shadows::emit(scene.render.shadows, view);
     if scene.render.ao.is_some() {
         s += parts::AMBIENT_OCCLUSION;
         s += "\n";
@@ -508,46 +502,6 @@ pub fn shadow_slabs(
             hi: hi.map(|v| f32_up(v + e)).filter(|x| x.is_finite()),
         }
     })
-}
-
-/// `bounds_outside(p)`: how far p lies outside the box shadow rays stop at ([`shadow_slabs`]:
-/// `ray_span`'s, a little wider), per axis (0 inside), which shadow rays read to stop where
-/// no surface can darken them any more (`shaders/shading/shadow_hard.wgsl`,
-/// `shadow_soft.wgsl`); for soft shadows also
-/// `OUTSIDE_FACTOR` ([`View::outside`]), by which the scene's distance outside the box is at
-/// least the distance to it. An unbounded axis clamps to +-3e38 (no f32 point lies beyond).
-/// Where nothing can stop a shadow ray (a scene unbounded on every axis; soft shadows where
-/// the factor is unknown) the box is never left, and the driver folds the test away.
-fn bounds_outside(view: &View, hard: bool) -> String {
-    let slabs = view.shadow;
-    let factor = f32_down(view.outside.clamp(0.0, 1.0));
-    let mut s = String::new();
-    if !hard {
-        let _ = writeln!(
-            s,
-            "// Outside the scene's bounds its distance is at least OUTSIDE_FACTOR times the distance\n\
-             // to them (0: not known), so a soft shadow's cone that has left them for good stays free.\n\
-             const OUTSIDE_FACTOR: f32 = {};\n",
-            float(factor)
-        );
-    }
-    s +=
-        "// How far p lies outside the scene's bounds (padded), per axis (0 inside): shadow rays\n\
-          // stop once they leave them for good.\n\
-          fn bounds_outside(p: vec3<f32>) -> vec3<f32> {\n";
-    if all_open(&slabs) || (!hard && factor == 0.0) {
-        s += "    return vec3<f32>(0.0);\n}\n";
-        return s;
-    }
-    let lo = slabs.map(|s| s.lo.unwrap_or(-3.0e38));
-    let hi = slabs.map(|s| s.hi.unwrap_or(3.0e38));
-    let _ = writeln!(
-        s,
-        "    return p - clamp(p, {}, {});\n}}",
-        vec3(lo),
-        vec3(hi)
-    );
-    s
 }
 
 /// `ray_span`'s test for an axis bounded at one end `v` only, its low end if `low`: a ray

@@ -48,6 +48,11 @@ pub const NORMALS_ANALYTIC: &str = include_str!("../../../shaders/normals/analyt
 pub const NORMALS_FORWARD: &str = include_str!("../../../shaders/normals/forward.wgsl");
 pub const SHADOW_HARD: &str = include_str!("../../../shaders/shading/shadow_hard.wgsl");
 pub const SHADOW_SOFT: &str = include_str!("../../../shaders/shading/shadow_soft.wgsl");
+pub const SHADOW_HARD_SAMPLE: &str =
+    include_str!("../../../shaders/shading/shadow_hard_sample.wgsl");
+pub const SHADOW_SOFT_SAMPLE: &str =
+    include_str!("../../../shaders/shading/shadow_soft_sample.wgsl");
+pub const SHADOW_INSTANCES: &str = include_str!("../../../shaders/shading/shadow_instances.wgsl");
 pub const AMBIENT_OCCLUSION: &str = include_str!("../../../shaders/shading/ambient_occlusion.wgsl");
 pub const RADIANCE_PLAIN: &str = include_str!("../../../shaders/shading/radiance_plain.wgsl");
 pub const RADIANCE_REFLECTIONS: &str =

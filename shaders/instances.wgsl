@@ -8,8 +8,8 @@
 @group(0) @binding(3) var<storage, read> scene_data: array<vec4<u32>>;
 
 // The leaf word of the instance nearest at this invocation's last call, or 0. Consecutive
-// calls of a march are at nearby points, so evaluating it first starts the walk from a tight
-// best distance. The value does not depend on it (see scene_nearest).
+// calls (ambient occlusion's samples, the normals' where the list does not answer) are at
+// nearby points, so evaluating it first starts the walk from a tight best distance. The value does not depend on it (see scene_nearest).
 var<private> scene_hint: u32;
 
 // The union's distance, and the leaf word of the instance that gave it (0 if none did).

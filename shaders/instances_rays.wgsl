@@ -22,7 +22,8 @@ var<private> ray_cut: f32;
 var<private> ray_hit: f32;
 // The first node a full list left out (`ray_start`'s walk resumes there), or NO_RESUME.
 var<private> ray_resume: u32;
-// The leaf word of the instance the march hit (`end_leaf`): the one nearest where it ended.
+// The leaf word of what the march hit (`end_leaf`): an instance, or 0 for a mixed union's
+// other children (or none).
 var<private> ray_end_leaf: u32;
 
 // How far from its stretch an instance is still evaluated at t: four surface thresholds

@@ -13,6 +13,10 @@ fn shadow(ro: vec3<f32>, rd: vec3<f32>, tmax: f32) -> f32 {
     var light = 1.0;
     var start = 0u;
     loop {
+        // (Dark already, from the other children: no list.)
+        if light <= 0.0 {
+            return 0.0;
+        }
         ray_start(ro, rd, 0.0, tmax, 0.0, SHADOW_REACH, start);
         // The list's next entry, the instance being marched, where along the ray and where
         // its stretch ends, and its samples so far.

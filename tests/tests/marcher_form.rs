@@ -128,3 +128,31 @@ fn relaxation_takes_its_step_in_either_loop() {
     assert!(!wgsl(8, "").contains(RELAXED_STEP));
     assert!(!wgsl(AUTO_INSTANCES, "").contains(RELAXED_STEP));
 }
+
+/// Shadow rays of a union read as data are listed and march each instance alone
+/// (`shaders/shading/shadow_instances.wgsl`), after a mixed union's other children
+/// (`shadow_rest`); a soft shadow whose cone no list's padding can hold keeps the walk
+/// (`shadows.rs` in sdfc-wgsl), and the code's shadows sample the scene.
+#[test]
+fn shadow_rays_of_a_union_read_as_data_take_lists_where_they_can() {
+    const LISTED: &str = "ray_start(ro, rd, 0.0, tmax, 0.0, SHADOW_REACH, start);";
+    const WALKED: &str = "let step = shadow_sampled(&light, scene_distance(q), t);";
+    for shadows in ["hard", "soft(16)", "soft(4)"] {
+        let render = format!("render {{ shadows: {shadows} }}");
+        let alone = wgsl(AUTO_INSTANCES, &render);
+        assert!(alone.contains(LISTED), "{shadows}");
+        assert!(!alone.contains("fn shadow_rest(") && !alone.contains(WALKED));
+        let mixed = wgsl_with_floor(AUTO_INSTANCES, &render);
+        assert!(mixed.contains(LISTED), "{shadows}");
+        assert!(mixed.contains("    var light = shadow_rest(ro, rd, tmax);\n"));
+        assert!(mixed.contains("let step = shadow_sampled(&light, rest_distance(q), t);"));
+        let code = wgsl(8, &render);
+        assert!(code.contains(WALKED) && !code.contains(LISTED), "{shadows}");
+    }
+    // Padding by the cone of soft(16): t / 15 for exact shapes.
+    let soft = wgsl(AUTO_INSTANCES, "render { shadows: soft(16) }");
+    assert!(soft.contains("const SHADOW_REACH: f32 = 0.06666667;"));
+    // soft(3): t / 2, wider than a list pays for (`SOFT_MOST`): the walk.
+    let wide = wgsl(AUTO_INSTANCES, "render { shadows: soft(3) }");
+    assert!(wide.contains(WALKED) && !wide.contains(LISTED));
+}

@@ -66,6 +66,35 @@ pub struct Instances {
     pub rest: Vec<ShapeId>,
 }
 
+impl Instances {
+    /// The least factor by which an instance's distance outside its box is at least the
+    /// distance to the box (as `Analysis`'s `outside` of a primitive): 1 for an exact
+    /// primitive, the least over the greatest radius for an ellipsoid, 0 where not known.
+    /// Uniform scales and rigid moves keep it. Shadow rays pad their lists' boxes by it
+    /// (`shadows.rs` in sdfc-wgsl).
+    pub fn outside_factor(&self) -> f64 {
+        self.items
+            .iter()
+            .map(|item| {
+                let prim = self.templates.get(item.template as usize).map(|t| t.0);
+                match (prim, item.args.first()) {
+                    (Some(p), _) if p.exact() => 1.0,
+                    (Some(Prim::Ellipsoid), Some(Value::V3(r))) => {
+                        let lo = r.iter().fold(f64::INFINITY, |a, &x| a.min(x));
+                        let hi = r.iter().fold(0.0f64, |a, &x| a.max(x));
+                        if lo > 0.0 && hi.is_finite() {
+                            lo / hi
+                        } else {
+                            0.0
+                        }
+                    }
+                    _ => 0.0,
+                }
+            })
+            .fold(1.0, f64::min)
+    }
+}
+
 /// The root union of `scene` (whose `analysis` gives the boxes) as instances, in
 /// coordinates centred on `origin` (the
 /// camera-relative frame the renderer marches in, or the origin), or `None` where the root

@@ -33,13 +33,18 @@ pub struct View<'a> {
     /// lists and marches. `Some(dear)`: whether their distance is dear, which picks their
     /// march's loops as [`View::dear`] picks the scene's.
     pub rest: Option<bool>,
+    /// For a union read as data, the least factor by which an instance's distance outside
+    /// its box is at least the distance to it (`Instances::outside_factor`): shadow rays'
+    /// lists pad their boxes by it (`crate::shadows`).
+    pub instances_outside: f64,
     /// Whether the scene's distance is trusted never to exceed the true distance
     /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
     /// more finely (`touch_distance` in `shaders/hit.wgsl`).
     pub trusted: bool,
     /// Outside the scene's bounds its distance is at least this factor times the distance to
     /// them (`Analysis::outside_factor`; 0 where nothing is known): soft shadow rays stop at
-    /// the bounds by it (`bounds_outside`).
+    /// the bounds by it (`bounds_outside`; a union read as data pads its shadow rays' lists
+    /// by [`View::instances_outside`] instead).
     pub outside: f64,
     /// Whether the march's distance is dear (a union read as data, or `dear::is_dear`): the
     /// march (plain or relaxed) then refines in its stepping loop (`shaders/march_merged.wgsl`).
@@ -153,9 +158,10 @@ const MARCH_ALONE_HEAD: &str = "    var best = span.y;
 /// (`march_rest`), whose hit, where it has one, is the nearest so far.
 const MARCH_REST_HEAD: &str =
     "    // The union's other children first, on their own (`march_rest`): their hit bounds
-    // the lists and the instances' marches.
+    // the lists and the instances' marches; so does where they ran out of steps (the
+    // union's march ended there too: nothing is known beyond).
     let rest = march_rest(ro, rd, pixel);
-    var best = select(span.y, rest.t, rest.hit);
+    var best = select(span.y, rest.t, rest.hit || rest.steps >= MAX_STEPS);
     var found = rest.hit;
     var best_leaf = 0u;
     var steps = rest.steps;
@@ -643,6 +649,7 @@ mod tests {
             shadow: [Slab { lo: None, hi: None }; 3],
             ray_lists,
             rest: None,
+            instances_outside: 1.0,
             trusted: true,
             outside: 1.0,
             dear: ray_lists,

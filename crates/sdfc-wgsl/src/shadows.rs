@@ -9,10 +9,19 @@ use sdfc_ir::rounding::{f32_down, f32_up};
 use sdfc_ir::scene::Shadows;
 use std::fmt::Write;
 
-/// How far a hard shadow ray's list pads each box, times the t of its far side: the hit
-/// test's threshold, 1e-5 (1 + t) (`shaders/shading/shadow_hard_sample.wgsl`), beyond the
-/// 1e-3 every box has.
-const HARD_REACH: f64 = 1e-5;
+/// How far a hard shadow ray's list pads each box, times the t of its far side, over the
+/// instances' outside factor f: outside the padding an instance's distance is at least f
+/// times it, 2e-5 t plus f times the 1e-3 every box has, which for f of [`HARD_LEAST`] or
+/// more is above the hit test's threshold, 1e-5 (1 + t)
+/// (`shaders/shading/shadow_hard_sample.wgsl`), out to the padding's edge.
+const HARD_REACH: f64 = 2e-5;
+const HARD_LEAST: f64 = 0.02;
+
+/// The largest padding a soft shadow ray's list takes, times the t of a box's far side:
+/// beyond it (a small `k`) the lists hold most of the instances near the ray, and the walk
+/// answers instead. Measured on lavapipe: see docs/performance.md, "Shadow rays through the
+/// ray's list".
+const SOFT_MOST: f64 = 1.0 / 3.0;
 
 /// The shadow function `shadow(ro, rd, tmax)` the shading calls, and what it needs; nothing
 /// without shadows.
@@ -26,15 +35,16 @@ pub fn emit(shadows: Shadows, view: &View) -> String {
     s += "\n";
     s += sample;
     s += "\n";
+    let f = view.instances_outside;
     let reach = match shadows {
-        Shadows::Soft(k) => soft_reach(k as f64, view.outside),
-        _ => Some(HARD_REACH),
+        Shadows::Soft(k) => soft_reach(k as f64, f).filter(|r| *r <= SOFT_MOST),
+        _ => (f >= HARD_LEAST).then(|| HARD_REACH / f),
     };
     match reach.filter(|_| view.ray_lists) {
         Some(reach) => {
             let _ = writeln!(
                 s,
-                "// How far each box is padded for a shadow ray's list, times the t of its far side: \n\
+                "// How far each box is padded for a shadow ray's list, times the t of its far side:\n\
                  // no instance outside it can darken the ray.\nconst SHADOW_REACH: f32 = {};\n",
                 float(f32_up(reach))
             );
@@ -66,10 +76,11 @@ const LIGHT_START: &str = "    var light = 1.0;\n";
 
 /// How far a soft shadow ray's list pads each box, times the t of its far side, for the
 /// sharpness `k` and a distance at least `outside` times the distance to each instance's box
-/// (`View::outside`, the union's, no more than any instance's): outside the padding, at t
-/// no more than the far side's t plus the padding, an instance's distance h is at least
-/// `outside` times the padding, so `k h / t` is at least 1 and cannot lower the light. None
-/// where no padding can (`k outside` at most 1, or the factor unknown): the walk then.
+/// (`View::instances_outside`): outside the padding, at t no more than the far side's t plus
+/// the padding, an instance's distance h is at least `outside` times the padding, so
+/// `k h / t` is at least 1 and cannot lower the light (beyond, h grows with t - t_far as
+/// fast). None where no padding can (`k outside` at most 1, or the factor unknown): the
+/// walk then.
 fn soft_reach(k: f64, outside: f64) -> Option<f64> {
     let kf = k * outside.clamp(0.0, 1.0);
     (kf > 1.0).then(|| 1.0 / (kf - 1.0))
@@ -117,7 +128,7 @@ pub(crate) fn bounds_outside(view: &View, hard: bool) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{soft_reach, LIGHT_START};
+    use super::{soft_reach, HARD_LEAST, HARD_REACH, LIGHT_START};
     use crate::parts;
 
     /// The text `emit` rewrites for a mixed union is there, once.
@@ -131,7 +142,9 @@ mod tests {
     }
 
     /// The padding keeps every instance outside it from darkening the ray: at t up to the
-    /// far side's t0 plus the padding, `k * outside * padding / t` is at least 1.
+    /// far side's t0 plus the padding, `k * outside * padding / t` is at least 1; beyond,
+    /// the distance is at least `outside * (t - t0)`. And a hard shadow's padding keeps the
+    /// hit test's threshold out at its edge, from the least factor it takes on.
     #[test]
     fn a_soft_shadow_pads_by_its_cone() {
         for (k, f) in [(16.0, 1.0), (8.0, 0.5), (2.5, 1.0), (64.0, 0.0625)] {
@@ -145,6 +158,14 @@ mod tests {
             }
         }
         assert_eq!(soft_reach(16.0, 0.0), None);
+        for f in [HARD_LEAST, 0.5, 1.0] {
+            for t0 in [0.0, 1.0, 1e3, 1e6] {
+                let pad = HARD_REACH / f * t0 + 1e-3;
+                for t in [t0, t0 + pad] {
+                    assert!(f * pad >= 1e-5 * (1.0 + t), "f {f} t0 {t0} t {t}");
+                }
+            }
+        }
         assert_eq!(soft_reach(1.0, 1.0), None);
         assert_eq!(soft_reach(4.0, 0.25), None);
     }

@@ -7,6 +7,14 @@ fn scene_distance(p: vec3<f32>) -> f32 {
     return scene_nearest(p, rest_distance(p)).distance;
 }
 
+// The scene's distance from p, or `below` where it is no nearer (ambient occlusion, which
+// needs no more): the walk starts from `below` and skips every box no nearer. On lavapipe
+// the 300-shape grid with `ao()` drew 1.03x to 1.15x faster, the same pictures
+// (docs/performance.md, "Shadow rays through the ray's list").
+fn scene_below(p: vec3<f32>, below: f32) -> f32 {
+    return scene_nearest(p, min(rest_distance(p), below)).distance;
+}
+
 // The material at a surface point p, where a march ended: the instance's it hit
 // (`end_leaf`), or the other children's where it hit them (leaf 0).
 fn scene_material(p: vec3<f32>) -> SceneMaterial {

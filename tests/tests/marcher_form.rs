@@ -149,6 +149,16 @@ fn shadow_rays_of_a_union_read_as_data_take_lists_where_they_can() {
         let code = wgsl(8, &render);
         assert!(code.contains(WALKED) && !code.contains(LISTED), "{shadows}");
     }
+    // Ambient occlusion's samples need the distance only up to their height: the walk
+    // starts from it (`scene_below`); the code's sample the scene.
+    let ao = "render { ao: ao() }";
+    for data in [
+        wgsl(AUTO_INSTANCES, ao),
+        wgsl_with_floor(AUTO_INSTANCES, ao),
+    ] {
+        assert!(data.contains("let d = scene_below(p + n * h, h);"));
+    }
+    assert!(wgsl(8, ao).contains("let d = scene_distance(p + n * h);"));
     // Padding by the cone of soft(16): t / 15 for exact shapes.
     let soft = wgsl(AUTO_INSTANCES, "render { shadows: soft(16) }");
     assert!(soft.contains("const SHADOW_REACH: f32 = 0.06666667;"));

@@ -124,7 +124,13 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     }
     s += &crate::shadows::emit(scene.render.shadows, view);
     if scene.render.ao.is_some() {
-        s += parts::AMBIENT_OCCLUSION;
+        if view.ray_lists {
+            // Each sample needs the distance only up to its height (`clamp(h - d, 0, h)`):
+            // the walk starts from that bound and skips every box no nearer.
+            s += &parts::AMBIENT_OCCLUSION.replacen(AO_SAMPLE, "scene_below(p + n * h, h)", 1);
+        } else {
+            s += parts::AMBIENT_OCCLUSION;
+        }
         s += "\n";
     }
     s += &shade(scene, view.lights);
@@ -145,6 +151,10 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     }
     s
 }
+
+/// Ambient occlusion's sample (`shaders/shading/ambient_occlusion.wgsl`), at height h along
+/// the normal; a test checks it is there.
+const AO_SAMPLE: &str = "scene_distance(p + n * h)";
 
 /// The start of the march of a union of instances alone (`shaders/march_instances.wgsl`):
 /// no hit yet, no sample taken. A test checks it is there.

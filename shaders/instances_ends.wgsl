@@ -2,7 +2,7 @@
 // no padding of their lists can hold their cones, `shadows.rs` in sdfc-wgsl): the walk.
 // The march takes each listed instance alone instead (`shaders/march_instances.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_nearest(p, 3.0e38).distance;
+    return scene_below(p, 3.0e38);
 }
 
 // The scene's distance from p, or `below` where it is no nearer (ambient occlusion, which

@@ -4,7 +4,7 @@
 // march takes the other children alone (`march_rest`), then each listed instance alone
 // (`shaders/march_instances.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_nearest(p, rest_distance(p)).distance;
+    return scene_below(p, 3.0e38);
 }
 
 // The scene's distance from p, or `below` where it is no nearer (ambient occlusion, which

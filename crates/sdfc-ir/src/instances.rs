@@ -68,28 +68,20 @@ pub struct Instances {
 
 impl Instances {
     /// The least factor by which an instance's distance outside its box is at least the
-    /// distance to the box (as `Analysis`'s `outside` of a primitive): 1 for an exact
-    /// primitive, the least over the greatest radius for an ellipsoid, 0 where not known.
+    /// distance to the box (`analysis::prim_outside`).
     /// Uniform scales and rigid moves keep it. Shadow rays pad their lists' boxes by it
     /// (`shadows.rs` in sdfc-wgsl).
     pub fn outside_factor(&self) -> f64 {
         self.items
             .iter()
             .map(|item| {
-                let prim = self.templates.get(item.template as usize).map(|t| t.0);
-                match (prim, item.args.first()) {
-                    (Some(p), _) if p.exact() => 1.0,
-                    (Some(Prim::Ellipsoid), Some(Value::V3(r))) => {
-                        let lo = r.iter().fold(f64::INFINITY, |a, &x| a.min(x));
-                        let hi = r.iter().fold(0.0f64, |a, &x| a.max(x));
-                        if lo > 0.0 && hi.is_finite() {
-                            lo / hi
-                        } else {
-                            0.0
-                        }
-                    }
-                    _ => 0.0,
-                }
+                let radii = match item.args.first() {
+                    Some(Value::V3(r)) => Some(*r),
+                    _ => None,
+                };
+                self.templates
+                    .get(item.template as usize)
+                    .map_or(0.0, |t| crate::analysis::prim_outside(t.0, radii))
             })
             .fold(1.0, f64::min)
     }

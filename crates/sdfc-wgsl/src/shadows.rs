@@ -26,20 +26,27 @@ const SOFT_MOST: f64 = 1.0 / 3.0;
 /// The shadow function `shadow(ro, rd, tmax)` the shading calls, and what it needs; nothing
 /// without shadows.
 pub fn emit(shadows: Shadows, view: &View) -> String {
-    let (hard, sample, plain) = match shadows {
+    // Each kind's sample, plain march, and list padding (none: no list pays).
+    let f = view.instances_outside;
+    let (hard, sample, plain, reach) = match shadows {
         Shadows::None => return String::new(),
-        Shadows::Hard => (true, parts::SHADOW_HARD_SAMPLE, parts::SHADOW_HARD),
-        Shadows::Soft(_) => (false, parts::SHADOW_SOFT_SAMPLE, parts::SHADOW_SOFT),
+        Shadows::Hard => (
+            true,
+            parts::SHADOW_HARD_SAMPLE,
+            parts::SHADOW_HARD,
+            (f >= HARD_LEAST).then(|| HARD_REACH / f),
+        ),
+        Shadows::Soft(k) => (
+            false,
+            parts::SHADOW_SOFT_SAMPLE,
+            parts::SHADOW_SOFT,
+            soft_reach(k as f64, f).filter(|r| *r <= SOFT_MOST),
+        ),
     };
     let mut s = bounds_outside(view, hard);
     s += "\n";
     s += sample;
     s += "\n";
-    let f = view.instances_outside;
-    let reach = match shadows {
-        Shadows::Soft(k) => soft_reach(k as f64, f).filter(|r| *r <= SOFT_MOST),
-        _ => (f >= HARD_LEAST).then(|| HARD_REACH / f),
-    };
     match reach.filter(|_| view.ray_lists) {
         Some(reach) => {
             let _ = writeln!(
@@ -146,7 +153,7 @@ mod tests {
     /// the distance is at least `outside * (t - t0)`. And a hard shadow's padding keeps the
     /// hit test's threshold out at its edge, from the least factor it takes on.
     #[test]
-    fn a_soft_shadow_pads_by_its_cone() {
+    fn the_lists_paddings_keep_out_what_could_darken() {
         for (k, f) in [(16.0, 1.0), (8.0, 0.5), (2.5, 1.0), (64.0, 0.0625)] {
             let reach = soft_reach(k, f).expect("a reach");
             for t0 in [0.01, 1.0, 100.0] {
@@ -158,6 +165,8 @@ mod tests {
             }
         }
         assert_eq!(soft_reach(16.0, 0.0), None);
+        assert_eq!(soft_reach(1.0, 1.0), None);
+        assert_eq!(soft_reach(4.0, 0.25), None);
         for f in [HARD_LEAST, 0.5, 1.0] {
             for t0 in [0.0, 1.0, 1e3, 1e6] {
                 let pad = HARD_REACH / f * t0 + 1e-3;
@@ -166,7 +175,5 @@ mod tests {
                 }
             }
         }
-        assert_eq!(soft_reach(1.0, 1.0), None);
-        assert_eq!(soft_reach(4.0, 0.25), None);
     }
 }

@@ -146,6 +146,28 @@ impl Analysis {
     }
 }
 
+/// The factor by which a primitive's distance outside its box is at least the distance to
+/// it (`NodeInfo::outside`): 1 for an exact one; for the bounds, `Analyser::bound_prim_outside`
+/// says why; an ellipsoid's from its radii (`None`: not constant, 0).
+pub fn prim_outside(prim: Prim, radii: Option<[f64; 3]>) -> f64 {
+    match (prim, radii) {
+        (p, _) if p.exact() => 1.0,
+        (Prim::Menger, _) => 1.0,
+        (Prim::Mandelbulb, _) => 1.0,
+        (Prim::Sierpinski, _) => 1.0 / 3.0,
+        (Prim::Ellipsoid, Some(r)) => {
+            let lo = r.iter().fold(f64::INFINITY, |a, &x| a.min(x));
+            let hi = r.iter().fold(0.0f64, |a, &x| a.max(x));
+            if lo > 0.0 && hi.is_finite() {
+                lo / hi
+            } else {
+                0.0
+            }
+        }
+        _ => 0.0,
+    }
+}
+
 /// A shape's size for [`Analysis::feature`] is at most this many times its box's smallest
 /// half-extent: moving a point by half the normal's step (2e-5 of the size) then tilts the
 /// normal of its thinnest part by at most 2e-5 * 16 / 2 radians (0.01 degree).
@@ -635,21 +657,11 @@ impl Analyser<'_> {
     /// difference), twice the distance to the box in the max norm: the estimate, that over
     /// 2 sqrt(3), is at least a third of the Euclidean distance.
     fn bound_prim_outside(prim: Prim, vals: &[Option<Value<f32>>]) -> f64 {
-        match (prim, vals.first()) {
-            (Prim::Menger, _) => 1.0,
-            (Prim::Mandelbulb, _) => 1.0,
-            (Prim::Sierpinski, _) => 1.0 / 3.0,
-            (Prim::Ellipsoid, Some(Some(Value::V3(r)))) => {
-                let lo = r.iter().fold(f64::INFINITY, |a, &x| a.min(x as f64));
-                let hi = r.iter().fold(0.0f64, |a, &x| a.max(x as f64));
-                if lo > 0.0 && hi.is_finite() {
-                    lo / hi
-                } else {
-                    0.0
-                }
-            }
-            _ => 0.0,
-        }
+        let radii = match vals.first() {
+            Some(Some(Value::V3(r))) => Some(r.map(|x| x as f64)),
+            _ => None,
+        };
+        prim_outside(prim, radii)
     }
 
     fn point_map(&mut self, map: &PointMap, c: &NodeInfo) -> (Exactness, Aabb) {

@@ -1,16 +1,9 @@
-// The signed distance from p to the scene, anywhere (ambient occlusion; soft shadows where
-// no padding of their lists can hold their cones, `shadows.rs` in sdfc-wgsl): the walk.
-// The march takes each listed instance alone instead (`shaders/march_instances.wgsl`).
+// The signed distance from p to the scene, anywhere (soft shadows where no padding of their
+// lists can hold their cones, `shadows.rs` in sdfc-wgsl): the walk. The march takes each
+// listed instance alone instead (`shaders/march_instances.wgsl`), and ambient occlusion its
+// own list (`shaders/shading/ambient_occlusion_list.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_below(p, 3.0e38);
-}
-
-// The scene's distance from p, or `below` where it is no nearer (ambient occlusion, which
-// needs no more): the walk starts from `below` and skips every box no nearer. On lavapipe
-// the 300-shape grid with `ao()` drew 1.03x to 1.15x faster, the same pictures
-// (docs/performance.md, "Shadow rays through the ray's list").
-fn scene_below(p: vec3<f32>, below: f32) -> f32 {
-    return scene_nearest(p, below).distance;
+    return scene_nearest(p, 3.0e38, true).distance;
 }
 
 // The material at a surface point p, where a march ended: the instance's it hit
@@ -27,7 +20,7 @@ fn scene_material(p: vec3<f32>) -> SceneMaterial {
 // The union's distance near the march's end (`ray_nearest`), and the instance that gives
 // it: the central and forward normals' samples.
 fn normal_nearest(p: vec3<f32>) -> Nearest {
-    return ray_nearest(p, 3.0e38);
+    return ray_nearest(p, ray_hit, 3.0e38, false);
 }
 
 // The distance the normal at the march's end samples.

@@ -1,18 +1,11 @@
-// The signed distance from p to the scene, anywhere (ambient occlusion; soft shadows where
-// no padding of their lists can hold their cones, `shadows.rs` in sdfc-wgsl). The other
-// children's distance comes first: the walk then skips every part no nearer than it. The
-// march takes the other children alone (`march_rest`), then each listed instance alone
-// (`shaders/march_instances.wgsl`).
+// The signed distance from p to the scene, anywhere (soft shadows where no padding of their
+// lists can hold their cones, `shadows.rs` in sdfc-wgsl). The other children's distance
+// comes first: the walk then skips every part no nearer than it. The march takes the other
+// children alone (`march_rest`), then each listed instance alone
+// (`shaders/march_instances.wgsl`), and ambient occlusion its own list
+// (`shaders/shading/ambient_occlusion_list.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_below(p, 3.0e38);
-}
-
-// The scene's distance from p, or `below` where it is no nearer (ambient occlusion, which
-// needs no more): the walk starts from `below` and skips every box no nearer. On lavapipe
-// the 300-shape grid with `ao()` drew 1.03x to 1.15x faster, the same pictures
-// (docs/performance.md, "Shadow rays through the ray's list").
-fn scene_below(p: vec3<f32>, below: f32) -> f32 {
-    return scene_nearest(p, min(rest_distance(p), below)).distance;
+    return scene_nearest(p, rest_distance(p), true).distance;
 }
 
 // The material at a surface point p, where a march ended: the instance's it hit
@@ -29,7 +22,7 @@ fn scene_material(p: vec3<f32>) -> SceneMaterial {
 // ray's list holds there (`ray_nearest`), with the instance that gives it (0 if none is
 // nearer): the central and forward normals' samples.
 fn normal_nearest(p: vec3<f32>) -> Nearest {
-    return ray_nearest(p, rest_distance(p));
+    return ray_nearest(p, ray_hit, rest_distance(p), false);
 }
 
 // The distance the normal at the march's end samples.

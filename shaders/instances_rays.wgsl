@@ -127,7 +127,16 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, reach: 
         n = n + 1u;
         i = a.w;
     }
-    // By entry (stable): nearly in order already, so the inner loop seldom shifts.
+    ray_sort(n);
+    ray_n = n;
+    ray_lo = t0;
+    ray_cut = cut;
+    ray_resume = resume;
+}
+
+// Sorts the list's first n entries by entry (stable): a camera ray's are nearly in order
+// already, so the inner loop seldom shifts.
+fn ray_sort(n: u32) {
     for (var j = 1u; j < n; j = j + 1u) {
         let lo = ray_in[j];
         let hi = ray_out[j];
@@ -146,28 +155,29 @@ fn ray_start(ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32, pixel: f32, reach: 
         ray_out[k] = hi;
         ray_leaf[k] = leaf;
     }
-    ray_n = n;
-    ray_lo = t0;
-    ray_cut = cut;
-    ray_resume = resume;
 }
 
-// The union's distance at p near the march's end (t = `ray_hit`), from the ray's list; no
-// more than `below` (a distance already known, a mixed union's other children's), with the
-// leaf word of the instance that gave it (0 if none is nearer): the central and forward
-// normals' samples. Only the listed instances whose stretch holds the end (within
-// `ray_margin`) are evaluated: every instance within the normal's step of the end is among
-// them (the boxes' padding is far larger than the step). From a margin before the cut on,
-// where no listed stretch holds the march's end (a pass by an edge counted as touching it,
-// within the threshold but outside the padding), or where the march listed the ray more
-// than once (`ray_lo` is then past every t), the walk over the whole hierarchy answers.
+// The union's distance at p, t along the ray (the march's end, `ray_hit`), from the ray's
+// list; no more than `below` (a distance already known, a mixed union's other children's),
+// with the leaf word of the instance that gave it (0 if none is nearer): the central and
+// forward normals' samples, and ambient occlusion's
+// (`shaders/shading/ambient_occlusion_list.wgsl`, its own list along the normal). Only the
+// listed instances whose stretch holds t (within `ray_margin`) are evaluated: every
+// instance within the normal's step of the end is among them (the boxes' padding is far
+// larger than the step). From a margin before the cut on, or where the march listed the ray
+// more than once (`ray_lo` is then past every t), the walk over the whole hierarchy
+// answers. Where no listed stretch holds t, it answers too
+// unless `occlusion` (then nothing listed is near, and `below` stands; at the march's end a
+// pass by an edge was counted as touching it, within the threshold but outside the
+// padding). The walk takes no box's distance for its subtree's (`walk_node`'s `bound`):
+// ambient occlusion needs the distance itself up to its sample's height, and near the
+// march's end a box that far is passed over anyway.
 //
 // One loop serves the list and the walk, so that it holds one call of instance_distance,
 // not two: drivers inline every call, and on lavapipe a loop's first trip and an `if`'s
 // body run under masks where no lane needs them (docs/performance.md, "One loop for the
 // list and the walk").
-fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
-    let t = ray_hit;
+fn ray_nearest(p: vec3<f32>, t: f32, below: f32, occlusion: bool) -> Nearest {
     let m = ray_margin(t);
     var walk = t < ray_lo || t > ray_cut - m;
     var d = below;
@@ -186,7 +196,7 @@ fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
             if i >= end {
                 break;
             }
-            let w = walk_node(p, i, d);
+            let w = walk_node(p, i, d, false);
             i = w.next;
             d = w.distance;
             leaf = w.leaf;
@@ -195,7 +205,7 @@ fn ray_nearest(p: vec3<f32>, below: f32) -> Nearest {
             }
         } else {
             if k >= ray_n || ray_in[k] - m > t {
-                if held {
+                if held || occlusion {
                     break;
                 }
                 walk = true;

@@ -149,16 +149,30 @@ fn shadow_rays_of_a_union_read_as_data_take_lists_where_they_can() {
         let code = wgsl(8, &render);
         assert!(code.contains(WALKED) && !code.contains(LISTED), "{shadows}");
     }
-    // Ambient occlusion's samples need the distance only up to their height: the walk
-    // starts from it (`scene_below`); the code's sample the scene.
+    // Ambient occlusion of a union read as data lists once along the normal and samples
+    // through its list (`ao_below`), a mixed union's other children first, where its samples
+    // reach less than the instances' spacing; the code's samples the scene.
     let ao = "render { ao: ao() }";
-    for data in [
-        wgsl(AUTO_INSTANCES, ao),
-        wgsl_with_floor(AUTO_INSTANCES, ao),
-    ] {
-        assert!(data.contains("let d = scene_below(p + n * h, h);"));
+    let alone = wgsl(AUTO_INSTANCES, ao);
+    let mixed = wgsl_with_floor(AUTO_INSTANCES, ao);
+    for data in [&alone, &mixed] {
+        assert!(data.contains("    ao_list(p, n);\n    var occlusion = 0.0;\n"));
+        assert!(data.contains("let d = ao_below(p + n * h, h);"));
     }
-    assert!(wgsl(8, ao).contains("let d = scene_distance(p + n * h);"));
+    assert!(alone.contains("return ray_nearest(q, h, h, true).distance;"));
+    assert!(mixed.contains("return ray_nearest(q, h, min(rest_distance(q), h), true).distance;"));
+    let code = wgsl(8, ao);
+    assert!(code.contains("let d = scene_distance(p + n * h);") && !code.contains("ao_list"));
+    // Samples reaching 2.4, past the grid's spacing of 1.5: the walk, without far boxes'
+    // bounds, a mixed union's other children first.
+    let high = "render { ao: ao(samples: 8, step: 0.3) }";
+    let alone = wgsl(AUTO_INSTANCES, high);
+    let mixed = wgsl_with_floor(AUTO_INSTANCES, high);
+    for data in [&alone, &mixed] {
+        assert!(!data.contains("ao_list") && data.contains("let d = ao_below(p + n * h, h);"));
+    }
+    assert!(alone.contains("return scene_nearest(q, h, false).distance;"));
+    assert!(mixed.contains("return scene_nearest(q, min(rest_distance(q), h), false).distance;"));
     // Padding by the cone of soft(16): t / 15 for exact shapes.
     let soft = wgsl(AUTO_INSTANCES, "render { shadows: soft(16) }");
     assert!(soft.contains("const SHADOW_REACH: f32 = 0.06666667;"));

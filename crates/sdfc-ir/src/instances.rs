@@ -85,6 +85,29 @@ impl Instances {
             })
             .fold(1.0, f64::min)
     }
+
+    /// The instances' usual spacing: the median distance between the box centres of two
+    /// leaves that are one node's children (the hierarchy's splits make them neighbours).
+    /// `None` where no node has two leaves. Ambient occlusion lists the instances near a
+    /// point only where its samples reach no farther (`occlusion.rs` in sdfc-wgsl).
+    pub fn spacing(&self) -> Option<f64> {
+        let mut pairs: Vec<f64> = (0..self.nodes.len())
+            .filter(|&i| self.nodes[i].leaf.is_none())
+            .filter_map(|i| {
+                let first = self.nodes.get(i + 1)?;
+                let second = self.nodes.get(first.skip as usize)?;
+                first.leaf?;
+                second.leaf?;
+                let d = [0, 1, 2].map(|a| first.centre[a] - second.centre[a]);
+                Some((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            })
+            .collect();
+        if pairs.is_empty() {
+            return None;
+        }
+        let mid = pairs.len() / 2;
+        Some(*pairs.select_nth_unstable_by(mid, f64::total_cmp).1)
+    }
 }
 
 /// The root union of `scene` (whose `analysis` gives the boxes) as instances, in

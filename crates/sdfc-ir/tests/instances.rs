@@ -237,6 +237,33 @@ fn a_crowd_counts_the_boxes_that_hold_one_point() {
 }
 
 #[test]
+fn the_spacing_is_the_usual_distance_between_neighbours() {
+    // The grid's neighbours are 1.5 apart; the same grid twice as wide, 3; 20 spheres 2
+    // apart beside 20 crowded about one point: the median of sibling pairs falls in one of
+    // the two groups, never on the gap between them.
+    let (_, f) = found(&grid_of_spheres()).expect("found");
+    assert!((f.spacing().expect("pairs") - 1.5).abs() < 1e-9);
+    let mut s = String::from("scene = union(\n");
+    for i in 0..49 {
+        s += &format!(
+            "    sphere(0.4).translate([{}, {}, 0]),\n",
+            3.0 * (i % 7) as f64,
+            3.0 * (i / 7) as f64
+        );
+    }
+    let (_, f) = found(&(s + ");\n")).expect("found");
+    assert!((f.spacing().expect("pairs") - 3.0).abs() < 1e-9);
+    let mut s = String::from("scene = union(\n");
+    for i in 0..20 {
+        s += &format!("    sphere(0.5).translate([0.00{}, 0, 0]),\n", i % 10);
+        s += &format!("    sphere(0.4).translate([{}, 5, 0]),\n", 2 * i);
+    }
+    let (_, f) = found(&(s + ");\n")).expect("found");
+    let spacing = f.spacing().expect("pairs");
+    assert!(spacing < 0.01 || (spacing - 2.0).abs() < 1e-9, "{spacing}");
+}
+
+#[test]
 fn instances_are_found_relative_to_an_origin() {
     let p = program(&union(20));
     let a = &p.analysis;

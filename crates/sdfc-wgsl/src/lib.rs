@@ -50,6 +50,7 @@ pub mod literal;
 pub mod marcher;
 pub mod material_index;
 pub mod module;
+mod occlusion;
 mod options;
 pub mod parts;
 pub mod screen;

@@ -26,7 +26,8 @@ pub struct View<'a> {
     /// (`shaders/march_instances.wgsl`), and keeps the instance it hit for the tetrahedron
     /// normal (`normal_sample`) and the material (`end_leaf`); the central and forward
     /// normals sample `normal_distance` near the march's end; shadow rays are listed and
-    /// marched instance by instance too (`crate::shadows`), AO keeps `scene_distance`.
+    /// marched instance by instance too (`crate::shadows`), and ambient occlusion's samples
+    /// take a list along the normal (`crate::occlusion`).
     pub ray_lists: bool,
     /// Where the union read as data has other children (a floor, a fractal): those are
     /// marched first, on their own (`march_rest`), and their hit bounds the instances'
@@ -37,6 +38,10 @@ pub struct View<'a> {
     /// its box is at least the distance to it (`Instances::outside_factor`): shadow rays'
     /// lists pad their boxes by it (`crate::shadows`).
     pub instances_outside: f64,
+    /// For a union read as data, the instances' usual spacing (`Instances::spacing`): ambient
+    /// occlusion takes one list for its samples where they reach no farther
+    /// (`crate::occlusion`).
+    pub instances_spacing: Option<f64>,
     /// Whether the scene's distance is trusted never to exceed the true distance
     /// (`Analysis::distance_trusted`): a pass by its surface is then told from a touch far
     /// more finely (`touch_distance` in `shaders/hit.wgsl`).
@@ -123,14 +128,8 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         s += "\n";
     }
     s += &crate::shadows::emit(scene.render.shadows, view);
-    if scene.render.ao.is_some() {
-        if view.ray_lists {
-            // Each sample needs the distance only up to its height (`clamp(h - d, 0, h)`):
-            // the walk starts from that bound and skips every box no nearer.
-            s += &parts::AMBIENT_OCCLUSION.replacen(AO_SAMPLE, "scene_below(p + n * h, h)", 1);
-        } else {
-            s += parts::AMBIENT_OCCLUSION;
-        }
+    if let Some(ao) = &scene.render.ao {
+        s += &crate::occlusion::emit(ao, view);
         s += "\n";
     }
     s += &shade(scene, view.lights);
@@ -151,10 +150,6 @@ pub fn emit(scene: &Scene, view: &View) -> String {
     }
     s
 }
-
-/// Ambient occlusion's sample (`shaders/shading/ambient_occlusion.wgsl`), at height h along
-/// the normal; a test checks it is there.
-const AO_SAMPLE: &str = "scene_distance(p + n * h)";
 
 /// The start of the march of a union of instances alone (`shaders/march_instances.wgsl`):
 /// no hit yet, no sample taken. A test checks it is there.
@@ -660,6 +655,7 @@ mod tests {
             ray_lists,
             rest: None,
             instances_outside: 1.0,
+            instances_spacing: None,
             trusted: true,
             outside: 1.0,
             dear: ray_lists,

@@ -240,6 +240,7 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             ray_lists: instances.is_some(),
             rest: rest.map(|r| crate::dear::is_dear(&r.distance, &r.groups)),
             instances_outside: instances.map_or(0.0, |plan| plan.found.outside_factor()),
+            instances_spacing: instances.and_then(|plan| plan.found.spacing()),
             trusted: p.analysis.distance_trusted(&p.scene),
             outside: p.analysis.outside_factor(&p.scene),
             feature: p.analysis.feature,

@@ -54,6 +54,8 @@ pub const SHADOW_SOFT_SAMPLE: &str =
     include_str!("../../../shaders/shading/shadow_soft_sample.wgsl");
 pub const SHADOW_INSTANCES: &str = include_str!("../../../shaders/shading/shadow_instances.wgsl");
 pub const AMBIENT_OCCLUSION: &str = include_str!("../../../shaders/shading/ambient_occlusion.wgsl");
+pub const AMBIENT_OCCLUSION_LIST: &str =
+    include_str!("../../../shaders/shading/ambient_occlusion_list.wgsl");
 pub const RADIANCE_PLAIN: &str = include_str!("../../../shaders/shading/radiance_plain.wgsl");
 pub const RADIANCE_REFLECTIONS: &str =
     include_str!("../../../shaders/shading/radiance_reflections.wgsl");

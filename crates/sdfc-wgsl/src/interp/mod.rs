@@ -185,7 +185,16 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
     s += "\n";
     s += &runtime(parts::SAFE_NORMALIZE);
     s += "\n";
-    s += &runtime(parts::AMBIENT_OCCLUSION);
+    if variant == Variant::Walk {
+        // Ambient occlusion needs the union's distance itself, not a far box's bound.
+        s += &runtime(parts::AMBIENT_OCCLUSION).replacen(
+            crate::occlusion::AO_SAMPLE,
+            "occlusion_distance(p + n * h)",
+            1,
+        );
+    } else {
+        s += &runtime(parts::AMBIENT_OCCLUSION);
+    }
     s += "\n";
     s += &runtime(parts::RADIANCE_REFLECTIONS);
     s += "\n";

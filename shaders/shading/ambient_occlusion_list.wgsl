@@ -7,8 +7,8 @@
 // and the list holds those from no higher than the highest sample, sorted. Past a full list's
 // cut the walk answers. A walk at each sample cost more than the march: on lavapipe `ao()`
 // took the 300-shape grid on a floor from 7.0 to 16.3 ms a frame, and the list drew it 1.75x
-// faster (docs/performance.md, "Ambient occlusion through one list"); samples that reach past
-// the instances' spacing keep the walk (`occlusion.rs` in sdfc-wgsl). The list is ambient
+// faster (docs/performance.md, "Ambient occlusion through one list"); samples that reach
+// farther than 0.8 of the instances' spacing keep the walk (`occlusion.rs` in sdfc-wgsl). The list is ambient
 // occlusion's from here on: the normal and the material were taken before, and shadow rays
 // make their own.
 fn ao_list(p: vec3<f32>, n: vec3<f32>) {
@@ -59,7 +59,8 @@ fn ao_list(p: vec3<f32>, n: vec3<f32>) {
 // The least height h from which p + n h lies in a box (centre p + v, half size `half`, and
 // 1e-3 for rounding) grown by h on every axis: on each axis |n h - v| <= half + h, that is
 // h (1 + n) >= v - half and h (1 - n) >= -v - half (`up`, `down`: their inverses; where
-// 1 + n or 1 - n is 0 the bound is 0 or, where the box is beyond, 1e30 times its distance).
+// 1 + n or 1 - n is 0 the bound is a large negative number, clamped to 0, or, where the box
+// is beyond, 1e30 times its distance: never).
 fn ao_enter(v: vec3<f32>, half: vec3<f32>, up: vec3<f32>, down: vec3<f32>) -> f32 {
     let grown = half + 1e-3;
     let least = max((v - grown) * up, (-v - grown) * down);

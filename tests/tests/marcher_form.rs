@@ -151,7 +151,7 @@ fn shadow_rays_of_a_union_read_as_data_take_lists_where_they_can() {
     }
     // Ambient occlusion of a union read as data lists once along the normal and samples
     // through its list (`ao_below`), a mixed union's other children first, where its samples
-    // reach less than the instances' spacing; the code's samples the scene.
+    // reach no farther than 0.8 of the instances' spacing; the code's samples the scene.
     let ao = "render { ao: ao() }";
     let alone = wgsl(AUTO_INSTANCES, ao);
     let mixed = wgsl_with_floor(AUTO_INSTANCES, ao);
@@ -163,8 +163,8 @@ fn shadow_rays_of_a_union_read_as_data_take_lists_where_they_can() {
     assert!(mixed.contains("return ray_nearest(q, h, min(rest_distance(q), h), true).distance;"));
     let code = wgsl(8, ao);
     assert!(code.contains("let d = scene_distance(p + n * h);") && !code.contains("ao_list"));
-    // Samples reaching 2.4, past the grid's spacing of 1.5: the walk, without far boxes'
-    // bounds, a mixed union's other children first.
+    // Samples reaching 2.4, past 0.8 of the grid's spacing of 1.5: the walk, without far
+    // boxes' bounds, a mixed union's other children first.
     let high = "render { ao: ao(samples: 8, step: 0.3) }";
     let alone = wgsl(AUTO_INSTANCES, high);
     let mixed = wgsl_with_floor(AUTO_INSTANCES, high);

@@ -381,8 +381,8 @@ fn shadow_rays_through_the_lists() {
     }
 }
 
-/// Ambient occlusion of a union read as data: samples that reach less than the instances'
-/// spacing go through one list along the normal
+/// Ambient occlusion of a union read as data: samples that reach no farther than 0.8 of the
+/// instances' spacing go through one list along the normal
 /// (`shaders/shading/ambient_occlusion_list.wgsl`), higher ones through the walk
 /// (`occlusion.rs` in sdfc-wgsl). Through the list on the mixed grid (the other children
 /// bound each sample first), and on a cluster of small spheres on a slab, whose lists fill,

@@ -1,7 +1,7 @@
 //! Ambient occlusion's part of the marcher (spec section 7): its samples along the normal
 //! through the scene's distance, or for a union read as data through one list along the
 //! normal (`shaders/shading/ambient_occlusion_list.wgsl`), or through the walk where its
-//! samples reach past the instances' spacing.
+//! samples reach farther than [`LIST_MOST`] of the instances' spacing.
 
 use crate::literal::float;
 use crate::marcher::View;
@@ -54,12 +54,17 @@ pub fn emit(ao: &Ao, view: &View) -> String {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "// The scene's distance at q, h along the normal, or h where it is no nearer: the walk,\n\
-             // each box no nearer than the best so far passed over, and no far box's distance taken\n\
-             // for its instances' (`walk_node`'s `bound`). The samples reach {} past the instances'\n\
-             // spacing, where one list for them all would hold more than the walk evaluates.\n\
-             fn ao_below(q: vec3<f32>, h: f32) -> f32 {{\n    return scene_nearest(q, {below}, false).distance;\n}}\n",
+            "// The scene's distance at q, h along the normal, or h where it is no nearer: the\n\
+             // walk, each box no nearer than the best so far passed over, and no far box's\n\
+             // distance taken for its instances' (`walk_node`'s `bound`). The samples reach {},\n\
+             // more than {LIST_MOST} of the instances' spacing: one list for them all would hold\n\
+             // more than the walk evaluates.",
             float(reach as f32),
+        );
+        let _ = writeln!(
+            s,
+            "fn ao_below(q: vec3<f32>, h: f32) -> f32 {{\n    \
+             return scene_nearest(q, {below}, false).distance;\n}}\n"
         );
         s += parts::AMBIENT_OCCLUSION;
         s
@@ -69,9 +74,10 @@ pub fn emit(ao: &Ao, view: &View) -> String {
 }
 
 /// Whether the samples reaching `reach` along the normal take one list
-/// ([`LIST_MOST`] of the instances' spacing or less, or the spacing unknown).
+/// ([`LIST_MOST`] of the instances' spacing or less, or the spacing unknown). A millionth
+/// more is let in: the reach comes from f32 settings (`4 * 0.3` is 1.2000000477).
 fn lists(reach: f64, spacing: Option<f64>) -> bool {
-    spacing.is_none_or(|s| reach <= LIST_MOST * s)
+    spacing.is_none_or(|s| reach <= LIST_MOST * s * (1.0 + 1e-6))
 }
 
 #[cfg(test)]
@@ -101,6 +107,7 @@ mod tests {
     fn samples_within_the_spacing_take_the_list() {
         assert!(lists(0.25, Some(1.5)));
         assert!(lists(1.2, Some(1.5)));
+        assert!(lists(f64::from(0.3f32) * 4.0, Some(1.5)));
         assert!(!lists(1.25, Some(1.5)));
         assert!(!lists(2.4, Some(1.5)));
         assert!(lists(100.0, None));

@@ -54,8 +54,8 @@ fn the_interpreter_shader_passes_naga() {
 }
 
 /// The variant that walks a union read as data is the same module with the walk's four
-/// cases and `shaders/interpreter/instances.wgsl`, valid, and with no loop in an
-/// instruction either; the other has none of the walk.
+/// cases and `shaders/interpreter/instances.wgsl` (and ambient occlusion sampling through
+/// it), valid, and with no loop in an instruction either; the other has none of the walk.
 #[test]
 fn the_walking_variant_adds_the_walk_only() {
     use interp::Variant;
@@ -78,6 +78,9 @@ fn the_walking_variant_adds_the_walk_only() {
         assert!(!code.contains(word), "{word}");
     }
     assert!(walk.contains(interp::INSTANCES));
+    // Ambient occlusion's samples walk without far boxes' bounds (`occlusion_distance`).
+    assert!(walk.contains("let d = occlusion_distance(p + n * h);"));
+    assert!(code.contains("let d = scene_distance(p + n * h);"));
     let execute = &walk[walk.find("fn execute(").unwrap()..walk.find("fn interpret(").unwrap()];
     let walk_fns = interp::INSTANCES;
     for word in ["for (", "loop {", "while "] {

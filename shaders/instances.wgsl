@@ -39,11 +39,12 @@ struct Walked {
 }
 
 // The walk at node i, at p, with the best distance so far d: a node whose box is no nearer
-// than d is passed over with its subtree; if `bound`, beyond its box's reach (its half
-// diagonal) the subtree answers with the box's distance, a lower bound of its field (what a
-// march needs, far from the shapes; ambient occlusion needs the distance itself, up to its
-// sample's height); a leaf gives its instance; an inner node goes down to its first child.
-fn walk_node(p: vec3<f32>, i: u32, d: f32, bound: bool) -> Walked {
+// than d is passed over with its subtree; beyond its box's reach (its half diagonal), and no
+// nearer than `least`, the subtree answers with the box's distance, a lower bound of its
+// field (what a march needs, far from the shapes: `least` 0; ambient occlusion needs the
+// distance itself, up to its sample's height: 3e38; a soft shadow, wherever it could lower
+// the light); a leaf gives its instance; an inner node goes down to its first child.
+fn walk_node(p: vec3<f32>, i: u32, d: f32, least: f32) -> Walked {
     let a = scene_data[2u * i];
     let b = scene_data[2u * i + 1u];
     let half = bitcast<vec3<f32>>(b.xyz);
@@ -52,7 +53,7 @@ fn walk_node(p: vec3<f32>, i: u32, d: f32, bound: bool) -> Walked {
     if bd >= d {
         return Walked(a.w, 0u, d);
     }
-    if bound && bd > length(half) {
+    if bd > length(half) && bd >= least {
         return Walked(a.w, 0u, bd);
     }
     if b.w == 0u {
@@ -62,14 +63,14 @@ fn walk_node(p: vec3<f32>, i: u32, d: f32, bound: bool) -> Walked {
 }
 
 // One loop over the hierarchy (`walk_node`), with no stack. The result does not depend on
-// the order of the walk (or on the hint): every instance contributes its distance, or, if
-// `bound`, the box distance of the node it lies under where the point is beyond that node's
-// reach, and a skipped subtree contributes at least the best distance when it was skipped,
+// the order of the walk (or on the hint): every instance contributes its distance, or the
+// box distance of the node it lies under where the point is beyond that node's reach and
+// that distance is no less than `least` (`walk_node`), and a skipped subtree contributes at least the best distance when it was skipped,
 // which is never below the end result. Near every surface that is the union's exact
 // distance. `below` is a distance the caller already has (a mixed union's other children's,
 // else 3e38): the walk starts from it, and the leaf word is 0 where no instance is nearer.
 // (`ray_nearest` walks the same way, without bounds, where a ray's list does not answer.)
-fn scene_nearest(p: vec3<f32>, below: f32, bound: bool) -> Nearest {
+fn scene_nearest(p: vec3<f32>, below: f32, least: f32) -> Nearest {
     var d = below;
     var nearest = 0u;
     // The root's skip link: the number of nodes.
@@ -87,7 +88,7 @@ fn scene_nearest(p: vec3<f32>, below: f32, bound: bool) -> Nearest {
             if i >= end {
                 break;
             }
-            let w = walk_node(p, i, d, bound);
+            let w = walk_node(p, i, d, least);
             i = w.next;
             d = w.distance;
             leaf = w.leaf;

@@ -3,7 +3,7 @@
 // listed instance alone instead (`shaders/march_instances.wgsl`), and ambient occlusion its
 // own list (`shaders/shading/ambient_occlusion_list.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_nearest(p, 3.0e38, true).distance;
+    return scene_nearest(p, 3.0e38, 0.0).distance;
 }
 
 // The material at a surface point p, where a march ended: the instance's it hit

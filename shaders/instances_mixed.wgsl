@@ -5,7 +5,7 @@
 // (`shaders/march_instances.wgsl`), and ambient occlusion its own list
 // (`shaders/shading/ambient_occlusion_list.wgsl`).
 fn scene_distance(p: vec3<f32>) -> f32 {
-    return scene_nearest(p, rest_distance(p), true).distance;
+    return scene_nearest(p, rest_distance(p), 0.0).distance;
 }
 
 // The material at a surface point p, where a march ended: the instance's it hit

@@ -169,7 +169,7 @@ fn ray_sort(n: u32) {
 // answers. Where no listed stretch holds t, it answers too
 // unless `occlusion` (then nothing listed is near, and `below` stands; at the march's end a
 // pass by an edge was counted as touching it, within the threshold but outside the
-// padding). The walk takes no box's distance for its subtree's (`walk_node`'s `bound`):
+// padding). The walk takes no box's distance for its subtree's (`walk_node`'s `least`):
 // ambient occlusion needs the distance itself up to its sample's height, and near the
 // march's end a box that far is passed over anyway.
 //
@@ -196,7 +196,7 @@ fn ray_nearest(p: vec3<f32>, t: f32, below: f32, occlusion: bool) -> Nearest {
             if i >= end {
                 break;
             }
-            let w = walk_node(p, i, d, false);
+            let w = walk_node(p, i, d, 3.0e38);
             i = w.next;
             d = w.distance;
             leaf = w.leaf;

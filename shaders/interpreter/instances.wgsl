@@ -25,18 +25,30 @@ var<private> walk_scale: f32;
 var<private> walk_hint: u32;
 // A finished walk's result: (distance, material index as f32, 0, 0).
 var<private> walk_out: vec4<f32>;
-// Whether a subtree whose box the point is beyond the reach of answers with the box's
-// distance (a march's bound); ambient occlusion's samples need the distance itself
-// (`occlusion_distance`).
-var<private> walk_bound: bool = true;
+// The least box distance a subtree whose box the point is beyond the reach of may answer
+// with, a lower bound of its field (`walk_node` in shaders/instances.wgsl): 0 for a march;
+// ambient occlusion's samples need the distance itself (`occlusion_distance`), a soft shadow
+// wherever it could lower the light (`shadow_distance`).
+var<private> walk_least: f32 = 0.0;
 
 // The scene's distance at an ambient occlusion sample: the walk takes no box's distance for
 // its subtree's, which darkened samples near no instance (at `ao(samples: 8, step: 0.3)` the
 // 120-shape grid parted from its code on 55 channels at 64x48, `tests/instances.rs`).
 fn occlusion_distance(p: vec3<f32>) -> f32 {
-    walk_bound = false;
+    walk_least = 3.0e38;
     let d = scene_distance(p);
-    walk_bound = true;
+    walk_least = 0.0;
+    return d;
+}
+
+// The scene's distance at a shadow ray's sample, a box's distance taken for its subtree's
+// only where no less than `least` (for a soft shadow, where it cannot lower the light: with
+// it anywhere, `soft(2)` on the 120-shape grid parted from the code on 150 channels at
+// 64x48, `tests/instances.rs`).
+fn shadow_distance(p: vec3<f32>, least: f32) -> f32 {
+    walk_least = least;
+    let d = scene_distance(p);
+    walk_least = 0.0;
     return d;
 }
 
@@ -80,7 +92,7 @@ fn walk_trip(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, pc: u32, p: v
             walk_node = node.w;
             return pc;
         }
-        if walk_bound && bd > length(half) {
+        if bd > length(half) && bd >= walk_least {
             walk_best = bd;
             walk_node = node.w;
             return pc;

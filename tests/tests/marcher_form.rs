@@ -171,12 +171,16 @@ fn shadow_rays_of_a_union_read_as_data_take_lists_where_they_can() {
     for data in [&alone, &mixed] {
         assert!(!data.contains("ao_list") && data.contains("let d = ao_below(p + n * h, h);"));
     }
-    assert!(alone.contains("return scene_nearest(q, h, false).distance;"));
-    assert!(mixed.contains("return scene_nearest(q, min(rest_distance(q), h), false).distance;"));
+    assert!(alone.contains("return scene_nearest(q, h, 3.0e38).distance;"));
+    assert!(mixed.contains("return scene_nearest(q, min(rest_distance(q), h), 3.0e38).distance;"));
     // Padding by the cone of soft(16): t / 15 for exact shapes.
     let soft = wgsl(AUTO_INSTANCES, "render { shadows: soft(16) }");
     assert!(soft.contains("const SHADOW_REACH: f32 = 0.06666667;"));
-    // soft(3): t / 2, wider than a list pays for (`SOFT_MOST`): the walk.
+    // soft(3): t / 2, wider than a list pays for (`SOFT_MOST`): the walk, which takes a far
+    // box's distance only where it cannot lower the light.
     let wide = wgsl(AUTO_INSTANCES, "render { shadows: soft(3) }");
-    assert!(wide.contains(WALKED) && !wide.contains(LISTED));
+    assert!(!wide.contains(LISTED) && !wide.contains(WALKED));
+    assert!(wide.contains(
+        "let step = shadow_sampled(&light, scene_nearest(q, 3.0e38, light * t / SHADOW_K).distance, t);"
+    ));
 }

@@ -379,6 +379,24 @@ fn shadow_rays_through_the_lists() {
             &crowd(&format!("render {{ {render} }}\n")),
         );
     }
+    // soft(2): no padding of a list pays (`SOFT_MOST` in sdfc-wgsl's shadows.rs), so each
+    // step walks the hierarchy, and takes a far box's distance for its instances' only where
+    // that cannot lower the light. With the box's distance wherever the point was beyond its
+    // reach, the penumbrae darkened: 1371 channels parted from the code at 160x120 on the
+    // 300-shape grid on a floor, PSNR against the reference 44.2 dB against 45.4.
+    for (name, src) in [
+        ("grid_120, soft(2) through the walk", &grid),
+        ("mixed grid_120, soft(2) through the walk", &mixed),
+    ] {
+        let src = src.replacen(head, &format!("render {{ shadows: soft(2) }}\n{head}"), 1);
+        let c = compile_as_data(name, &src);
+        assert!(
+            c.wgsl.contains("light * t / SHADOW_K).distance, t)")
+                && !c.wgsl.contains("SHADOW_REACH"),
+            "{name}: the walk"
+        );
+        check(name, &src);
+    }
 }
 
 /// Ambient occlusion of a union read as data: samples that reach no farther than 0.8 of the
@@ -459,7 +477,7 @@ fn ambient_occlusion_through_its_list() {
         );
         assert_eq!(
             c.wgsl
-                .contains("return scene_nearest(q, h, false).distance;"),
+                .contains("return scene_nearest(q, h, 3.0e38).distance;"),
             !listed,
             "{name}: the walk"
         );

@@ -56,7 +56,7 @@ pub fn emit(ao: &Ao, view: &View) -> String {
             s,
             "// The scene's distance at q, h along the normal, or h where it is no nearer: the\n\
              // walk, each box no nearer than the best so far passed over, and no far box's\n\
-             // distance taken for its instances' (`walk_node`'s `bound`). The samples reach {},\n\
+             // distance taken for its instances' (`walk_node`'s `least`). The samples reach {},\n\
              // more than {LIST_MOST} of the instances' spacing: one list for them all would hold\n\
              // more than the walk evaluates.",
             float(reach as f32),
@@ -64,7 +64,7 @@ pub fn emit(ao: &Ao, view: &View) -> String {
         let _ = writeln!(
             s,
             "fn ao_below(q: vec3<f32>, h: f32) -> f32 {{\n    \
-             return scene_nearest(q, {below}, false).distance;\n}}\n"
+             return scene_nearest(q, {below}, 3.0e38).distance;\n}}\n"
         );
         s += parts::AMBIENT_OCCLUSION;
         s

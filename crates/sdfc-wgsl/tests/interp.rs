@@ -54,8 +54,8 @@ fn the_interpreter_shader_passes_naga() {
 }
 
 /// The variant that walks a union read as data is the same module with the walk's four
-/// cases and `shaders/interpreter/instances.wgsl` (and ambient occlusion sampling through
-/// it), valid, and with no loop in an instruction either; the other has none of the walk.
+/// cases and `shaders/interpreter/instances.wgsl` (and ambient occlusion and shadows
+/// sampling through it), valid, and with no loop in an instruction either; the other has none of the walk.
 #[test]
 fn the_walking_variant_adds_the_walk_only() {
     use interp::Variant;
@@ -81,6 +81,11 @@ fn the_walking_variant_adds_the_walk_only() {
     // Ambient occlusion's samples walk without far boxes' bounds (`occlusion_distance`).
     assert!(walk.contains("let d = occlusion_distance(p + n * h);"));
     assert!(code.contains("let d = scene_distance(p + n * h);"));
+    // Soft shadows' samples take a far box's distance only where it cannot lower the light.
+    assert!(
+        walk.contains("let h = shadow_distance(q, select(light * t / frame.shadow_k, 0.0, hard));")
+    );
+    assert!(code.contains("let h = scene_distance(q);"));
     let execute = &walk[walk.find("fn execute(").unwrap()..walk.find("fn interpret(").unwrap()];
     let walk_fns = interp::INSTANCES;
     for word in ["for (", "loop {", "while "] {

@@ -173,7 +173,16 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
         s += INSTANCES;
         s += "\n";
     }
-    s += &runtime(SCENE);
+    if variant == Variant::Walk {
+        // A soft shadow's walk takes a far box's distance only where it cannot lower the light.
+        s += &runtime(&SCENE.replacen(
+            SHADOW_SAMPLE,
+            "let h = shadow_distance(q, select(light * t / SHADOW_K, 0.0, hard));",
+            1,
+        ));
+    } else {
+        s += &runtime(SCENE);
+    }
     s += "\n";
     s += &runtime(parts::HIT);
     s += "\n";
@@ -201,6 +210,10 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
     s += &runtime(parts::MAIN).replace(OPAQUE, CUT_MARKED);
     s
 }
+
+/// The shadow ray's sample of the scene in `shaders/interpreter/scene.wgsl`, which the
+/// walking variant rewrites; a test checks it is rewritten.
+const SHADOW_SAMPLE: &str = "let h = scene_distance(q);";
 
 /// The entry point's colour write, and the interpreter's: alpha 0 where the driver cut a run
 /// of the code short ([`cut_pixels`]).

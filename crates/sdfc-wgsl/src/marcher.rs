@@ -59,6 +59,20 @@ pub struct View<'a> {
     pub feature: f64,
 }
 
+impl View<'_> {
+    /// The distance a walk of the instances at the point `p` starts below: a mixed union's
+    /// other children's (`rest_distance`), no more than `cap` where one is given; else `cap`,
+    /// or nothing known (3e38).
+    pub(crate) fn walk_below(&self, p: &str, cap: Option<&str>) -> String {
+        match (self.rest.is_some(), cap) {
+            (true, Some(cap)) => format!("min(rest_distance({p}), {cap})"),
+            (true, None) => format!("rest_distance({p})"),
+            (false, Some(cap)) => cap.to_string(),
+            (false, None) => "3.0e38".to_string(),
+        }
+    }
+}
+
 /// How the march's and the hit refinement's parts sample the ray; a test checks that each
 /// still does.
 const RAY_SAMPLE: &str = "scene_distance(ro + rd * t)";

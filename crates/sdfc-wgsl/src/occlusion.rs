@@ -34,11 +34,7 @@ pub fn emit(ao: &Ao, view: &View) -> String {
     }
     // Each sample needs the distance only up to its height (`clamp(h - d, 0, h)`); a mixed
     // union's other children bound it first.
-    let below = if view.rest.is_some() {
-        "min(rest_distance(q), h)"
-    } else {
-        "h"
-    };
+    let below = view.walk_below("q", Some("h"));
     let reach = f64::from(ao.step) * f64::from(ao.samples);
     let mut s = if lists(reach, view.instances_spacing) {
         let list = format!("ray_nearest(q, h, {below}, true)");

@@ -76,11 +76,7 @@ pub fn emit(shadows: Shadows, view: &View) -> String {
         // the grid on a floor with `soft(2)` parted from its code on 1371 channels at
         // 160x120 (docs/performance.md, "Soft shadows' walk").
         None if view.ray_lists && !hard => {
-            let below = if view.rest.is_some() {
-                "rest_distance(q)"
-            } else {
-                "3.0e38"
-            };
+            let below = view.walk_below("q", None);
             s += &plain.replacen(
                 SOFT_SAMPLE,
                 &format!(

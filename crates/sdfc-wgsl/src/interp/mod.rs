@@ -173,16 +173,22 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
         s += INSTANCES;
         s += "\n";
     }
-    if variant == Variant::Walk {
-        // A soft shadow's walk takes a far box's distance only where it cannot lower the light.
-        s += &runtime(&SCENE.replacen(
-            SHADOW_SAMPLE,
-            "let h = shadow_distance(q, select(light * t / SHADOW_K, 0.0, hard));",
-            1,
-        ));
-    } else {
-        s += &runtime(SCENE);
-    }
+    // The walking variant's shadow and ambient occlusion samples take a far box's distance
+    // for its instances' only where it cannot lower the light (`shadow_distance`), or never
+    // (`occlusion_distance`).
+    let walk = variant == Variant::Walk;
+    let sample = |part: &str, plain: &str, walked: &str| {
+        runtime(&if walk {
+            part.replacen(plain, walked, 1)
+        } else {
+            part.to_string()
+        })
+    };
+    s += &sample(
+        SCENE,
+        SHADOW_SAMPLE,
+        "let h = shadow_distance(q, select(light * t / SHADOW_K, 0.0, hard));",
+    );
     s += "\n";
     s += &runtime(parts::HIT);
     s += "\n";
@@ -194,16 +200,11 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
     s += "\n";
     s += &runtime(parts::SAFE_NORMALIZE);
     s += "\n";
-    if variant == Variant::Walk {
-        // Ambient occlusion needs the union's distance itself, not a far box's bound.
-        s += &runtime(parts::AMBIENT_OCCLUSION).replacen(
-            crate::occlusion::AO_SAMPLE,
-            "occlusion_distance(p + n * h)",
-            1,
-        );
-    } else {
-        s += &runtime(parts::AMBIENT_OCCLUSION);
-    }
+    s += &sample(
+        parts::AMBIENT_OCCLUSION,
+        crate::occlusion::AO_SAMPLE,
+        "occlusion_distance(p + n * h)",
+    );
     s += "\n";
     s += &runtime(parts::RADIANCE_REFLECTIONS);
     s += "\n";

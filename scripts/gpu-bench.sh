@@ -10,7 +10,7 @@
 #       the `compare_shader` example and the render tests (profile gpu-test, packed with xz),
 #       strips them into `.gpu/` (ignored by git, about 45 MB), writes the table and data
 #       experiments' grids, shaders and data (scripts/table-experiment.py,
-#       scripts/bvh-experiment.py, scripts/tile-experiment.py) and the culled grids there, and
+#       scripts/bvh-experiment.py) and the culled grids there, and
 #       downloads the Vulkan and EGL loaders' Debian packages into `.gl/` (ignored).
 #   scripts/gpu-bench.sh run [SIZE]
 #       there, from the repository's root, with `.gpu` and `.gl` carried:
@@ -85,23 +85,17 @@ for line in sys.stdin:
     scripts/bvh-experiment.py .gpu/grid300-far.wgsl .gpu/grid300-far-bvh-hint.wgsl \
         .gpu/grid300-far-bvh-hint.bin --mixed --hint
     rm .gpu/grid300-far.wgsl
-    # Per-tile ray culling (scripts/tile-experiment.py) on the 300-shape grid from both
-    # cameras, lists per workgroup (8x8) and per pixel (1x1), for 640x480 only (the lists are
-    # the primary rays').
-    local cam t
-    for cam in grid300 grid300-far; do
-        .gpu/sdfc compile ".gpu/$cam.sdf" --instances --data ".gpu/$cam-inst.bin" -o ".gpu/$cam-inst.wgsl"
-        for t in 8x8 1x1; do
-            SDFC_TILE=$t SDFC_TILE_SHADING=1 scripts/tile-experiment.py ".gpu/$cam-inst.wgsl" \
-                ".gpu/$cam-inst.bin" 640x480 ".gpu/$cam-tiles$t.wgsl" ".gpu/$cam-tiles$t.bin"
-        done
-    done
     # The marcher as one loop (refinement inside the stepping loop), the form before
-    # 2026-12-04, for three marching scenes: `marcher_loops` times it against the two loops.
+    # 2026-12-04, for the marching scenes that still take two loops (a scene whose distance
+    # is dear, as the terrain's and the fractals' now are, is marched in one loop already and
+    # has no `refine` to call): `marcher_loops` times it against the two loops.
+    rm -f .gpu/*-one-loop.wgsl
     for s in spec_section10 terrain fractals; do
         .gpu/sdfc compile "examples/$s.sdf" -o ".gpu/$s.wgsl"
-        scripts/swap-function.py ".gpu/$s.wgsl" march scripts/experiments/march_one_loop.wgsl \
-            ".gpu/$s-one-loop.wgsl"
+        if grep -q '^fn refine(' ".gpu/$s.wgsl"; then
+            scripts/swap-function.py ".gpu/$s.wgsl" march scripts/experiments/march_one_loop.wgsl \
+                ".gpu/$s-one-loop.wgsl"
+        fi
         rm ".gpu/$s.wgsl"
     done
     du -sh .gpu
@@ -249,24 +243,15 @@ measure() {
             step instances_300_far.log 30 $c compare $g-far.sdf instances "$size"
             g=.gpu/grid5000
             step instances_5000.log 40 $c compare $g.sdf instances "$size" $g-bvh-hint.wgsl:$g-bvh-hint.bin ;;
-        # Per-tile ray culling against the code (prepared for 640x480 only).
-        tiles_300)
-            if [ "$size" != 640x480 ]; then
-                skipped tiles_300 "its lists are for 640x480"
-            else
-                local cam t
-                for cam in grid300 grid300-far; do
-                    for t in 8x8 1x1; do
-                        step "tiles_${cam}_$t.log" 30 $c compare ".gpu/$cam.sdf" \
-                            ".gpu/$cam-tiles$t.wgsl:.gpu/$cam-tiles$t.bin" "$size"
-                    done
-                done
-            fi ;;
         # The two-loop marcher ("own") against the one-loop form ("other"), same pictures.
         marcher_loops)
             local s
             for s in spec_section10 terrain fractals; do
-                step "marcher_loops_$s.log" 20 $c compare "examples/$s.sdf" ".gpu/$s-one-loop.wgsl" "$size"
+                if [ -f ".gpu/$s-one-loop.wgsl" ]; then
+                    step "marcher_loops_$s.log" 20 $c compare "examples/$s.sdf" ".gpu/$s-one-loop.wgsl" "$size"
+                else
+                    skipped "marcher_loops_$s" "marched in one loop already"
+                fi
             done ;;
         tables_5000)
             if [ -n "$quick" ]; then
@@ -288,7 +273,7 @@ measure() {
 # 20 minutes, more than one call may take (pick with SDFC_GPU_ONLY); on the H200 all but the
 # last two took about four minutes before bvh_300 and bvh_5000 were added (25 s on lavapipe
 # at 64x48), and first_pixel_5000 is cut short by design (its preview line comes first).
-ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 bvh_300 bvh_5000 instances tiles_300 marcher_loops benches tables_5000 first_pixel_5000"
+ALL="gpu adapter render culling culling_compare first_pixel render_tests tables_300 bvh_300 bvh_5000 instances marcher_loops benches tables_5000 first_pixel_5000"
 
 # Runs the measurements; exits 1 if any failed or ran out of time (summary.txt says which).
 run() {

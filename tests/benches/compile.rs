@@ -10,7 +10,7 @@ fn main() {
 }
 
 /// The whole pipeline at the default options, as `sdfc render` runs it: parse, lower,
-/// optimise, emit, validate. From 150 instances up the union is emitted as data
+/// optimise, emit, validate. From 100 instances up the union is emitted as data
 /// (`Instances::Auto`): the WGSL no longer grows with the shapes, and the data is built.
 #[divan::bench(args = [10, 1000, 5000], sample_count = 20)]
 fn scene_to_validated_wgsl(bencher: divan::Bencher, n: usize) {

@@ -143,7 +143,13 @@ fn large_unions_split_into_groups_that_compute_the_same_distance() {
         );
     }
     src += ");\n";
-    let c = compile(&src, &Options::default()).expect("compiles");
+    // As code: by default a union this large is read as data (`AUTO_INSTANCES`), which has
+    // no groups.
+    let code = Options {
+        instances: sdfc_wgsl::Instances::Never,
+        ..Options::default()
+    };
+    let c = compile(&src, &code).expect("compiles");
     let p = c.program();
     assert!(
         p.groups.len() >= 4,

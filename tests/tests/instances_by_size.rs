@@ -27,15 +27,27 @@ fn by_default_a_union_is_data_from_the_threshold_up() {
     let at = compiled(AUTO_INSTANCES, &Options::default());
     assert!(as_data(&at), "{AUTO_INSTANCES} instances emitted as code");
     // Every instance has a record of at least three vec4 (48 bytes), and the WGSL no longer
-    // holds one block per shape: it is smaller than the code form of the smaller grid, and
-    // a grid ten times as large has the same WGSL but for its bounds' numbers (the same
-    // kinds of shape and materials).
+    // holds one block per shape: it is smaller than the code form of a grid three times as
+    // large (at 150 it was smaller than the code of the grid one shape smaller; at 100 the
+    // data form's parts, the lists, blocks and walks, still outweigh 99 shapes' code), and a
+    // grid ten times as large has the same WGSL but for its bounds' numbers (the same kinds
+    // of shape and materials).
     assert!(
         at.data.len() >= AUTO_INSTANCES * 48,
         "{} bytes",
         at.data.len()
     );
-    assert!(at.wgsl.len() < below.wgsl.len());
+    let never = Options {
+        instances: Instances::Never,
+        ..Options::default()
+    };
+    let code = compiled(3 * AUTO_INSTANCES, &never);
+    assert!(
+        at.wgsl.len() < code.wgsl.len(),
+        "{} bytes against the code's {}",
+        at.wgsl.len(),
+        code.wgsl.len()
+    );
     let larger = compiled(10 * AUTO_INSTANCES, &Options::default());
     assert!(as_data(&larger) && larger.data.len() > 9 * at.data.len());
     assert!(larger.wgsl.len() * 100 < at.wgsl.len() * 101);

@@ -34,7 +34,7 @@ pub struct Args {
     /// `array<vec4<u32>>`) instead of holding each shape's code, and the buffer's bytes go to
     /// the --data file. A scene without such a union is compiled as usual, with a note.
     /// Without it the WGSL holds the whole scene, whatever its size (`sdfc render` reads
-    /// unions of 150 or more shapes as data by itself)
+    /// unions of 100 or more shapes as data by itself)
     #[arg(long, requires = "data", conflicts_with_all = ["cull", "lib"])]
     instances: bool,
     /// With --instances: where to write the buffer (little-endian 32-bit words)

@@ -43,7 +43,7 @@ pub struct Args {
     /// Read the scene's root union from a buffer, as instances in a hierarchy of boxes walked
     /// by one loop, instead of compiling each shape: for a union of many constant shapes
     /// (moved, turned, scaled, with materials), whose pipeline then builds in about a second
-    /// whatever its size. Done by default from 150 such shapes up (without --cull); this
+    /// whatever its size. Done by default from 100 such shapes up (without --cull); this
     /// asks for it from 16. The union's other children (a floor, a fractal) stay code beside
     /// the walk. A scene without such a union is compiled as usual, with a note.
     /// With --interpreted, the interpreter walks the union read as data (its bytecode no

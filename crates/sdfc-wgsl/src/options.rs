@@ -41,11 +41,12 @@ pub enum Instances {
 /// shapes on every driver measured (lavapipe 1.4 s for 300 shapes, the H200 3.4 s, both more
 /// than a minute for 5 000), and with its rays' lists the data form draws faster (the
 /// 300-shape grid 3.7x to 5.5x on lavapipe, the same marcher). `sdfc render` at its default
-/// 512x512 on lavapipe, Mesa's cache off, took as long either way at 130 to 160 shapes (code
-/// 0.62 to 0.93 s, data 0.68 to 0.80 s), and with the cache warm the data form was 1.5x to
-/// 2.5x faster from 100 shapes up. docs/performance.md, "Data by default" and "From 150
-/// shapes".
-pub const AUTO_INSTANCES: usize = 150;
+/// 512x512 on lavapipe, Mesa's cache off, took as long either way at 80 shapes and was 1.07x
+/// to 1.4x faster as data from 100 to 150 (2026-12-07; at stop 33 the two met at 130 to 160,
+/// before the data form's frames got faster), and with the cache warm the data form was 1.4x
+/// to 1.6x faster at 100. docs/performance.md, "Data by default", "From 150 shapes" and
+/// "From 100 shapes".
+pub const AUTO_INSTANCES: usize = 100;
 
 /// The most instances' boxes that may hold one point (`Instances::crowd_exceeds` in sdfc-ir)
 /// for [`Instances::Auto`] to read a union as data: a ray's list holds as many

@@ -17,7 +17,7 @@
 //! 5 000-shape union's pipeline after 236 s (docs/performance.md), so a run limited in time
 //! still learns the first pixel. `SDFC_BENCH_INSTANCES=1`: the specialised shader reads a
 //! union of 16 or more instances as data (`--instances`); `=0`: never (`--no-instances`);
-//! unset: from 150 up, the default. Mesa keeps built shaders in a disk cache:
+//! unset: from `AUTO_INSTANCES` (100) up, the default. Mesa keeps built shaders in a disk cache:
 //! `MESA_SHADER_CACHE_DISABLE=true` measures cold builds.
 
 use sdfc_render::{LiveOptions, RenderOptions, Renderer};

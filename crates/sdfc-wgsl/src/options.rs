@@ -41,8 +41,8 @@ pub enum Instances {
 /// shapes on every driver measured (lavapipe 1.4 s for 300 shapes, the H200 3.4 s, both more
 /// than a minute for 5 000), and with its rays' lists the data form draws faster (the
 /// 300-shape grid 3.7x to 5.5x on lavapipe, the same marcher). `sdfc render` at its default
-/// 512x512 on lavapipe, Mesa's cache off, took as long either way at 80 shapes and was 1.07x
-/// to 1.4x faster as data from 100 to 150 (2026-12-07; at stop 33 the two met at 130 to 160,
+/// 512x512 on lavapipe, Mesa's cache off, took as long either way at 80 shapes and was 1.06x
+/// to 1.4x faster as data from 100 to 120 (2026-12-07; at stop 33 the two met at 130 to 160,
 /// before the data form's frames got faster), and with the cache warm the data form was 1.4x
 /// to 1.6x faster at 100. docs/performance.md, "Data by default", "From 150 shapes" and
 /// "From 100 shapes".

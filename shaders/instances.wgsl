@@ -65,10 +65,11 @@ fn walk_node(p: vec3<f32>, i: u32, d: f32, least: f32) -> Walked {
 // One loop over the hierarchy (`walk_node`), with no stack. The result does not depend on
 // the order of the walk (or on the hint): every instance contributes its distance, or the
 // box distance of the node it lies under where the point is beyond that node's reach and
-// that distance is no less than `least` (`walk_node`), and a skipped subtree contributes at least the best distance when it was skipped,
-// which is never below the end result. Near every surface that is the union's exact
-// distance. `below` is a distance the caller already has (a mixed union's other children's,
-// else 3e38): the walk starts from it, and the leaf word is 0 where no instance is nearer.
+// that distance is no less than `least` (`walk_node`), and a skipped subtree contributes at
+// least the best distance when it was skipped, which is never below the end result. Near
+// every surface that is the union's exact distance. `below` is a distance the caller already
+// has (a mixed union's other children's, else 3e38): the walk starts from it, and the leaf
+// word is 0 where no instance is nearer.
 // (`ray_nearest` walks the same way, without bounds, where a ray's list does not answer.)
 fn scene_nearest(p: vec3<f32>, below: f32, least: f32) -> Nearest {
     var d = below;

@@ -8,9 +8,9 @@
 // cut the walk answers. A walk at each sample cost more than the march: on lavapipe `ao()`
 // took the 300-shape grid on a floor from 7.0 to 16.3 ms a frame, and the list drew it 1.75x
 // faster (docs/performance.md, "Ambient occlusion through one list"); samples that reach
-// farther than 0.8 of the instances' spacing keep the walk (`occlusion.rs` in sdfc-wgsl). The list is ambient
-// occlusion's from here on: the normal and the material were taken before, and shadow rays
-// make their own.
+// farther than 0.8 of the instances' spacing keep the walk (`occlusion.rs` in sdfc-wgsl).
+// The list is ambient occlusion's from here on: the normal and the material were taken
+// before, and shadow rays make their own.
 fn ao_list(p: vec3<f32>, n: vec3<f32>) {
     let top = AO_STEP * f32(AO_SAMPLES);
     // 1 / (1 + n) and 1 / (1 - n), each at most 1e30 (n is a unit vector, give or take

@@ -30,9 +30,9 @@ fn by_default_a_union_is_data_from_the_threshold_up() {
     // holds one block per shape: it is smaller than the code form of a grid three times as
     // large (at 150 it was smaller than the code of the grid one shape smaller; at 100 the
     // data form's parts, the lists, blocks and walks, still outweigh 99 shapes' code: 55.6
-    // against 48.5 KB on 2026-12-07, 86 KB for the code of 300), and a
-    // grid ten times as large has the same WGSL but for its bounds' numbers (the same kinds
-    // of shape and materials).
+    // against 48.5 KB on 2026-12-07, 86 KB for the code of 300), and a grid ten times as
+    // large has the same WGSL but for its bounds' numbers (the same kinds of shape and
+    // materials).
     assert!(
         at.data.len() >= AUTO_INSTANCES * 48,
         "{} bytes",

@@ -55,7 +55,8 @@ fn the_interpreter_shader_passes_naga() {
 
 /// The variant that walks a union read as data is the same module with the walk's four
 /// cases and `shaders/interpreter/instances.wgsl` (and ambient occlusion and shadows
-/// sampling through it), valid, and with no loop in an instruction either; the other has none of the walk.
+/// sampling through it), valid, and with no loop in an instruction either; the other has
+/// none of the walk.
 #[test]
 fn the_walking_variant_adds_the_walk_only() {
     use interp::Variant;

@@ -66,14 +66,24 @@ pub fn read_corpus(folder: &str, min: usize) -> Vec<CorpusFile> {
 
 /// A generated scene of `n` shapes (spheres, boxes and tori on a grid, rotated, in three
 /// materials) in one flat `union`: the compile-time benchmark's input and the large-scene
-/// tests' too.
+/// tests' too. Its camera is the suite's, 60 away, where most rays miss the grid's bounds.
 pub fn grid_scene(n: usize) -> String {
-    let mut s = String::from(
+    grid_with_camera(n, "position: [0, 20, 60], target: [0, 0, 0]")
+}
+
+/// The same grid seen from close by, where every ray marches through the shapes: what the
+/// culling experiments and benches measure besides the suite's camera.
+pub fn grid_scene_close(n: usize) -> String {
+    grid_with_camera(n, "position: [2, 6, 12], target: [0, 3, -4]")
+}
+
+fn grid_with_camera(n: usize, camera: &str) -> String {
+    let mut s = format!(
         "// Generated grid scene.\n\
-         material red { color: [0.9, 0.2, 0.15] }\n\
-         material green { color: [0.2, 0.8, 0.3], specular: 0.2 }\n\
-         material blue { color: [0.2, 0.3, 0.9], reflectivity: 0.3 }\n\
-         camera { position: [0, 20, 60], target: [0, 0, 0], fov: 50deg }\n\
+         material red {{ color: [0.9, 0.2, 0.15] }}\n\
+         material green {{ color: [0.2, 0.8, 0.3], specular: 0.2 }}\n\
+         material blue {{ color: [0.2, 0.3, 0.9], reflectivity: 0.3 }}\n\
+         camera {{ {camera}, fov: 50deg }}\n\
          scene = union(\n",
     );
     let side = (n as f64).cbrt().ceil() as usize;

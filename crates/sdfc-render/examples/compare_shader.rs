@@ -29,18 +29,6 @@ fn set(name: &str) -> bool {
     std::env::var(name).is_ok_and(|v| v == "1")
 }
 
-/// The grid's own camera sees it from 60 away, where most rays miss its bounds; from close
-/// by every ray marches through the shapes, which is what the experiment measures.
-fn close_grid(n: usize) -> Result<String, Error> {
-    const FAR: &str = "camera { position: [0, 20, 60], target: [0, 0, 0]";
-    const CLOSE: &str = "camera { position: [2, 6, 12], target: [0, 3, -4]";
-    let scene = sdfc_tests::grid_scene(n);
-    if !scene.contains(FAR) {
-        return Err("the generated grid's camera has changed: update close_grid".into());
-    }
-    Ok(scene.replace(FAR, CLOSE))
-}
-
 /// The scene's own shader, its union as code at any size (by default a union of 1 000 or
 /// more instances would be data, the form compared against).
 fn compile(source: &str) -> Result<sdfc_wgsl::Compiled, Error> {
@@ -52,7 +40,7 @@ fn compile(source: &str) -> Result<sdfc_wgsl::Compiled, Error> {
 }
 
 fn emit(n: usize, dir: &str) -> Result<(), Error> {
-    let source = close_grid(n)?;
+    let source = sdfc_tests::grid_scene_close(n);
     let compiled = compile(&source)?;
     std::fs::write(format!("{dir}/grid{n}.sdf"), &source)?;
     std::fs::write(format!("{dir}/grid{n}.wgsl"), &compiled.wgsl)?;

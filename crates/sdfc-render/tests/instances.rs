@@ -510,14 +510,7 @@ fn crowd(head: &str) -> String {
 /// of such a gap (`shaders/hit.wgsl`, `gap`).
 #[test]
 fn the_300_shape_grid_from_close_by_has_no_holes() {
-    let src = sdfc_tests::grid_scene(300).replace(
-        "camera { position: [0, 20, 60], target: [0, 0, 0]",
-        "camera { position: [2, 6, 12], target: [0, 3, -4]",
-    );
-    assert!(
-        src.contains("position: [2, 6, 12]"),
-        "the grid's camera has changed"
-    );
+    let src = sdfc_tests::grid_scene_close(300);
     check("grid_300 close", &src);
 }
 
@@ -527,14 +520,7 @@ fn the_300_shape_grid_from_close_by_has_no_holes() {
 /// between two samples.
 #[test]
 fn the_300_shape_grid_relaxed() {
-    let src = sdfc_tests::grid_scene(300).replace(
-        "camera { position: [0, 20, 60], target: [0, 0, 0]",
-        "camera { position: [2, 6, 12], target: [0, 3, -4]",
-    ) + "render { relaxation: 1.6 }\n";
-    assert!(
-        src.contains("position: [2, 6, 12]"),
-        "the grid's camera has changed"
-    );
+    let src = sdfc_tests::grid_scene_close(300) + "render { relaxation: 1.6 }\n";
     check("grid_300 close, relaxed", &src);
 }
 

@@ -162,15 +162,16 @@ fn main() {
          drawn in turn"
     );
     for (n, close) in SCENES {
-        let camera = if close { "close by" } else { "the suite's camera" };
+        let camera = if close {
+            "close by"
+        } else {
+            "the suite's camera"
+        };
         println!("\n{n} shapes, {camera}:");
         let forms: Vec<Compiled> = Form::ALL.iter().map(|&f| compiled(n, close, f)).collect();
         let medians = times(&forms);
         let reference = with_reference.then(|| {
-            sdfc_reference::render(
-                forms[0].program(),
-                &sdfc_reference::Options::sized(w, h),
-            )
+            sdfc_reference::render(forms[0].program(), &sdfc_reference::Options::sized(w, h))
         });
         for ((form, c), t) in Form::ALL.iter().zip(&forms).zip(&medians) {
             let speed = medians[0].as_secs_f64() / t.as_secs_f64();

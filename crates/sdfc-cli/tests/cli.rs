@@ -691,6 +691,22 @@ fn usage_errors_exit_2_and_help_exits_0() {
     );
 }
 
+/// The contract (shared/spec/cli.md): "`--size` defaults to 512x512", for every command that
+/// takes it (drawing at that size takes minutes on a CPU, so the help is read instead).
+#[test]
+fn every_size_option_defaults_to_512x512() {
+    let t = TempDir::new("sizes");
+    for command in ["render", "bench"] {
+        let help = sdfc_in(&t.0, &[command, "--help"]).expect_code(0);
+        let size = help
+            .stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with("--size"))
+            .unwrap_or_else(|| panic!("{command} has no --size: {}", help.describe()));
+        assert!(size.contains("[default: 512x512]"), "{command}: {size}");
+    }
+}
+
 #[test]
 fn compile_every_scene_of_the_corpus() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/scenes");

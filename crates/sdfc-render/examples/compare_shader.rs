@@ -12,7 +12,8 @@
 //! `Options::instances` (its union as data). `SDFC_COMPARE_REFERENCE=1` also prints each
 //! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths
 //! differ (and, with the reference, those whose depths differ from its);
-//! `SDFC_COMPARE_ALL_PIXELS=1` runs the own (or base) shader on every pixel, the other on
+//! `SDFC_COMPARE_AT="x,y x,y"` prints both frames' depth and steps at those pixels (a variant
+//! can write a count of its own into the steps AOV); `SDFC_COMPARE_ALL_PIXELS=1` runs the own (or base) shader on every pixel, the other on
 //! the tiles its rays can meet the scene in only (the renderer's default).
 
 use sdfc_reference::metrics::percentile;
@@ -173,6 +174,22 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
         for (i, (x, y)) in da.iter().zip(db).enumerate() {
             if x.is_finite() != y.is_finite() || (x - y).abs() > 1e-3 * x.abs() {
                 println!("pixel {} {}: depth {x} and {y}", i % width, i / width);
+            }
+        }
+    }
+    if let Ok(at) = std::env::var("SDFC_COMPARE_AT") {
+        // Both frames' depth and steps at the pixels named: a variant that writes a count of
+        // its own into the steps AOV is read here.
+        let width = opts.width as usize;
+        for xy in at.split_whitespace() {
+            let Some((x, y)) = xy.split_once(',') else {
+                return Err(format!("SDFC_COMPARE_AT: `{xy}` is not x,y").into());
+            };
+            let i = y.parse::<usize>()? * width + x.parse::<usize>()?;
+            for (name, f) in [("own", a), ("other", b)] {
+                let aovs = f.aovs.as_ref().expect("AOVs");
+                let (d, n) = (aovs.depth.get(i), aovs.steps.get(i));
+                println!("pixel {x} {y}, {name}: depth {d:?}, steps {n:?}");
             }
         }
     }

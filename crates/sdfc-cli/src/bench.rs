@@ -26,13 +26,14 @@ const WARM_UP: Duration = Duration::from_millis(500);
     is built first; then the settings are drawn in turn for half a second, untimed, and then \
     in turn for the timed runs, so that all are timed at the same device clocks. A setting \
     marked * is on the Pareto front: no other is both faster and more accurate (fewer \
-    hit/miss mismatches away from silhouettes, then a smaller depth error)."
+    hit/miss mismatches away from silhouettes, then a smaller depth error). The f64 reference \
+    is drawn on the CPU: minutes at the default 512x512 on two cores, so pass a smaller \
+    --size for a quick look."
 )]
 pub struct Args {
     /// The scene file (.sdf)
     scene: PathBuf,
-    /// Image size, WIDTHxHEIGHT; the f64 reference is drawn on the CPU, minutes at 512x512 on
-    /// two cores: pass a smaller size for a quick look
+    /// Image size, WIDTHxHEIGHT
     // 512x512 as every `--size` of the command line's contract (shared/spec/cli.md).
     #[arg(long, value_name = "WxH", default_value = "512x512", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),

@@ -698,12 +698,22 @@ fn every_size_option_defaults_to_512x512() {
     let t = TempDir::new("sizes");
     for command in ["render", "bench"] {
         let help = sdfc_in(&t.0, &[command, "--help"]).expect_code(0);
-        let size = help
+        // The option's entry, from its line to the next option's, in one line: clap may wrap
+        // the help text (and the default with it) at the terminal's width.
+        let mut lines = help
             .stdout
             .lines()
-            .find(|l| l.trim_start().starts_with("--size"))
+            .skip_while(|l| !l.trim_start().starts_with("--size"));
+        let first = lines
+            .next()
             .unwrap_or_else(|| panic!("{command} has no --size: {}", help.describe()));
-        assert!(size.contains("[default: 512x512]"), "{command}: {size}");
+        let rest = lines.take_while(|l| !l.trim_start().starts_with('-'));
+        let entry = std::iter::once(first)
+            .chain(rest)
+            .flat_map(str::split_whitespace)
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(entry.contains("[default: 512x512]"), "{command}: {entry}");
     }
 }
 

@@ -13,8 +13,9 @@
 //! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths
 //! differ (and, with the reference, those whose depths differ from its);
 //! `SDFC_COMPARE_AT="x,y x,y"` prints both frames' depth and steps at those pixels (a variant
-//! can write a count of its own into the steps AOV); `SDFC_COMPARE_ALL_PIXELS=1` runs the own (or base) shader on every pixel, the other on
-//! the tiles its rays can meet the scene in only (the renderer's default).
+//! can write a count of its own into the steps AOV); `SDFC_COMPARE_ALL_PIXELS=1` runs the own
+//! (or base) shader on every pixel, the other on the tiles its rays can meet the scene in
+//! only (the renderer's default).
 
 use sdfc_reference::metrics::percentile;
 use sdfc_render::{RenderOptions, Renderer};
@@ -80,6 +81,7 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
     let (w, h) = size.split_once('x').ok_or("size is WxH")?;
     let mut opts = RenderOptions::sized(w.parse()?, h.parse()?);
     opts.aovs = true;
+    let probes = probes(opts.width, opts.height)?;
     let r = Renderer::new()?;
     println!("adapter: {}", r.adapter_description());
     // The other shader first: where the own one is slow to build (a large union on a CPU
@@ -177,20 +179,16 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
             }
         }
     }
-    if let Ok(at) = std::env::var("SDFC_COMPARE_AT") {
-        // Both frames' depth and steps at the pixels named: a variant that writes a count of
-        // its own into the steps AOV is read here.
-        let width = opts.width as usize;
-        for xy in at.split_whitespace() {
-            let Some((x, y)) = xy.split_once(',') else {
-                return Err(format!("SDFC_COMPARE_AT: `{xy}` is not x,y").into());
-            };
-            let i = y.parse::<usize>()? * width + x.parse::<usize>()?;
-            for (name, f) in [("own", a), ("other", b)] {
-                let aovs = f.aovs.as_ref().expect("AOVs");
-                let (d, n) = (aovs.depth.get(i), aovs.steps.get(i));
-                println!("pixel {x} {y}, {name}: depth {d:?}, steps {n:?}");
-            }
+    // Both frames' depth and steps at the pixels `SDFC_COMPARE_AT` names: a variant that
+    // writes a count of its own into the steps AOV is read here.
+    for &(x, y) in &probes {
+        let i = y as usize * opts.width as usize + x as usize;
+        for ((name, _), f) in shaders.iter().zip(&frames) {
+            let aovs = f.aovs.as_ref().expect("AOVs");
+            println!(
+                "pixel {x} {y}, {name}: depth {}, steps {}",
+                aovs.depth[i], aovs.steps[i]
+            );
         }
     }
     rel.sort_by(f64::total_cmp);
@@ -202,6 +200,28 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
         against_reference(&compiled, &shaders, &frames, &opts);
     }
     Ok(())
+}
+
+/// The pixels `SDFC_COMPARE_AT="x,y x,y"` names, each within the image.
+fn probes(width: u32, height: u32) -> Result<Vec<(u32, u32)>, Error> {
+    let Ok(at) = std::env::var("SDFC_COMPARE_AT") else {
+        return Ok(Vec::new());
+    };
+    at.split_whitespace()
+        .map(|xy| {
+            let bad = || format!("SDFC_COMPARE_AT: `{xy}` is not x,y within {width}x{height}");
+            let (x, y) = xy.split_once(',').ok_or_else(bad)?;
+            let (x, y) = (
+                x.parse::<u32>().map_err(|_| bad())?,
+                y.parse::<u32>().map_err(|_| bad())?,
+            );
+            if x < width && y < height {
+                Ok((x, y))
+            } else {
+                Err(bad().into())
+            }
+        })
+        .collect()
 }
 
 /// Each frame's error against the f64 reference (`SDFC_COMPARE_REFERENCE=1`; slow: the CPU

@@ -8,7 +8,7 @@ use crate::Outcome;
 use indicatif::{ProgressBar, ProgressStyle};
 use sdfc_ir::scene::{Epsilon, Normals, RenderSettings, Shadows};
 use sdfc_ir::Program;
-use sdfc_reference::metrics::{self, GpuFrame, Metrics};
+use sdfc_reference::metrics::Metrics;
 use sdfc_render::{Frame, RenderOptions};
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -335,21 +335,8 @@ fn timed_in_turn(
 }
 
 fn row(setting: &Setting, time: Duration, frame: &Frame, reference: &sdfc_reference::Image) -> Row {
-    let (depth, normal, steps): (&[f32], &[[f32; 3]], &[f32]) = match &frame.aovs {
-        Some(a) => (&a.depth, &a.normal, &a.steps),
-        None => (&[], &[], &[]),
-    };
-    let metrics = metrics::compare(
-        &GpuFrame {
-            width: frame.width,
-            height: frame.height,
-            rgba: &frame.rgba,
-            depth,
-            normal,
-            steps,
-        },
-        reference,
-    );
+    let steps: &[f32] = frame.aovs.as_ref().map_or(&[], |a| &a.steps);
+    let metrics = crate::compare::frame_metrics(frame, reference);
     let mut sorted = steps.to_vec();
     sorted.sort_by(f32::total_cmp);
     let n = sorted.len().max(1) as f64;

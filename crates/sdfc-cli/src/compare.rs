@@ -19,25 +19,34 @@ pub fn table(
 ) -> String {
     let program = compiled.program();
     let reference = reference(program, overrides, (frame.width, frame.height), time);
-    let m = match &frame.aovs {
-        Some(a) => metrics::compare(
-            &GpuFrame {
-                width: frame.width,
-                height: frame.height,
-                rgba: &frame.rgba,
-                depth: &a.depth,
-                normal: &a.normal,
-                steps: &a.steps,
-            },
-            &reference,
-        ),
-        None => return String::from("no AOVs came back from the device\n"),
-    };
+    if frame.aovs.is_none() {
+        return String::from("no AOVs came back from the device\n");
+    }
+    let m = frame_metrics(frame, &reference);
     if markdown {
         markdown_table(name, &m)
     } else {
         plain_table(name, &m, device)
     }
+}
+
+/// The metrics of `frame` against `reference`; a frame without AOVs compares no pixel.
+pub fn frame_metrics(frame: &Frame, reference: &sdfc_reference::Image) -> Metrics {
+    let (depth, normal, steps): (&[f32], &[[f32; 3]], &[f32]) = match &frame.aovs {
+        Some(a) => (&a.depth, &a.normal, &a.steps),
+        None => (&[], &[], &[]),
+    };
+    metrics::compare(
+        &GpuFrame {
+            width: frame.width,
+            height: frame.height,
+            rgba: &frame.rgba,
+            depth,
+            normal,
+            steps,
+        },
+        reference,
+    )
 }
 
 /// The f64 reference render of `program` at `width` x `height`, with the param overrides and

@@ -20,6 +20,10 @@ use sdfc_wgsl::{Compiled, Instances, Options};
 use std::sync::OnceLock;
 use std::time::Duration;
 
+#[path = "../tests/common/against_reference.rs"]
+#[allow(dead_code)]
+mod reference_metrics;
+
 /// The scenes: the grid's size and camera.
 const SCENES: [(usize, bool); 3] = [(300, false), (300, true), (100, true)];
 
@@ -128,19 +132,7 @@ fn frame(c: &Compiled) -> Frame {
 
 /// The frame's error against the f64 reference, in a line.
 fn error(f: &Frame, reference: &sdfc_reference::Image) -> String {
-    let (width, height) = sdfc_tests::bench_size();
-    let a = f.aovs.as_ref().expect("AOVs");
-    let m = sdfc_reference::metrics::compare(
-        &sdfc_reference::metrics::GpuFrame {
-            width,
-            height,
-            rgba: &f.rgba,
-            depth: &a.depth,
-            normal: &a.normal,
-            steps: &a.steps,
-        },
-        reference,
-    );
+    let m = reference_metrics::frame_metrics(f, reference);
     format!(
         "hits {}/{}, mismatches {} + {}, depth p99.9 {:.2e}, normal median {:.3} deg",
         m.both_hit,

@@ -23,6 +23,10 @@ use std::time::{Duration, Instant};
 
 type Error = Box<dyn std::error::Error>;
 
+#[path = "../tests/common/against_reference.rs"]
+#[allow(dead_code)]
+mod reference_metrics;
+
 /// A shader's text and the data it reads at binding 3, if any.
 type Shader = (String, Option<Vec<u8>>);
 
@@ -31,8 +35,8 @@ fn set(name: &str) -> bool {
     std::env::var(name).is_ok_and(|v| v == "1")
 }
 
-/// The scene's own shader, its union as code at any size (by default a union of 1 000 or
-/// more instances would be data, the form compared against).
+/// The scene's own shader, its union as code at any size (by default a union of
+/// `AUTO_INSTANCES` or more instances would be data, the form compared against).
 fn compile(source: &str) -> Result<sdfc_wgsl::Compiled, Error> {
     let code = sdfc_wgsl::Options {
         instances: sdfc_wgsl::Instances::Never,
@@ -239,18 +243,7 @@ fn against_reference(
         &sdfc_reference::Options::sized(width, height),
     );
     for ((name, _), f) in shaders.iter().zip(frames) {
-        let a = f.aovs.as_ref().expect("AOVs");
-        let m = sdfc_reference::metrics::compare(
-            &sdfc_reference::metrics::GpuFrame {
-                width,
-                height,
-                rgba: &f.rgba,
-                depth: &a.depth,
-                normal: &a.normal,
-                steps: &a.steps,
-            },
-            &reference,
-        );
+        let m = reference_metrics::frame_metrics(f, &reference);
         println!(
             "{name} against the f64 reference: hits {}/{}, mismatches {} interior + {} at \
              silhouettes, depth median {:.2e} p99.9 {:.2e}, normal median {:.3} deg, PSNR {:.1} dB",
@@ -266,6 +259,7 @@ fn against_reference(
         if set("SDFC_COMPARE_PIXELS") {
             // The pixels whose depth differs from the reference's by more than 1e-3 relative,
             // or that hit where it misses or the other way, with both colours.
+            let a = f.aovs.as_ref().expect("AOVs");
             for (i, (r, &d)) in reference.pixels.iter().zip(&a.depth).enumerate() {
                 let off = if r.hit && d.is_finite() {
                     (f64::from(d) - r.depth).abs() > 1e-3 * r.depth.abs()

@@ -5,9 +5,9 @@
 
 mod common;
 
-use common::against_reference::parted;
+use common::against_reference::{frame_metrics, parted};
 use common::{compile, compile_as_data, compile_with, renderer};
-use sdfc_reference::metrics::{self, GpuFrame, Metrics};
+use sdfc_reference::metrics::Metrics;
 use sdfc_render::{Frame, RenderOptions, Renderer};
 use sdfc_wgsl::interp::encode_instances::encode_as_data;
 use sdfc_wgsl::Options;
@@ -55,18 +55,7 @@ fn against(r: &Renderer, form: Form, reference: &sdfc_reference::Image) -> (Fram
         }
     };
     let frame = frame.expect("renders");
-    let aovs = frame.aovs.as_ref().expect("AOVs");
-    let m = metrics::compare(
-        &GpuFrame {
-            width: W,
-            height: H,
-            rgba: &frame.rgba,
-            depth: &aovs.depth,
-            normal: &aovs.normal,
-            steps: &aovs.steps,
-        },
-        reference,
-    );
+    let m = frame_metrics(&frame, reference);
     (frame, m)
 }
 

@@ -29,25 +29,34 @@ pub fn render_against_reference(
             },
         )
         .unwrap_or_else(|e| panic!("{name}: {e}"));
-    let aovs = frame.aovs.as_ref().expect("AOVs were asked for");
     let reference =
         sdfc_reference::render(compiled.program(), &sdfc_reference::Options::sized(w, h));
-    let metrics = metrics::compare(
-        &GpuFrame {
-            width: w,
-            height: h,
-            rgba: &frame.rgba,
-            depth: &aovs.depth,
-            normal: &aovs.normal,
-            steps: &aovs.steps,
-        },
-        &reference,
-    );
+    let metrics = frame_metrics(&frame, &reference);
     Compared {
         frame,
         reference,
         metrics,
     }
+}
+
+/// The metrics of a device frame rendered with AOVs against the reference of its size. (Also
+/// the culling bench's and `compare_shader`'s, which include this file.)
+pub fn frame_metrics(frame: &Frame, reference: &sdfc_reference::Image) -> Metrics {
+    let aovs = frame
+        .aovs
+        .as_ref()
+        .expect("the frame was rendered with AOVs");
+    metrics::compare(
+        &GpuFrame {
+            width: frame.width,
+            height: frame.height,
+            rgba: &frame.rgba,
+            depth: &aovs.depth,
+            normal: &aovs.normal,
+            steps: &aovs.steps,
+        },
+        reference,
+    )
 }
 
 /// Whether the reference's 3x3 neighbourhood of (x, y) holds a silhouette (hits and misses)

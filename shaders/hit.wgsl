@@ -20,15 +20,29 @@ fn march_threshold(t: f32, pixel: f32) -> f32 {
     return max(surface_epsilon(t, pixel), 2.4e-7 * t);
 }
 
-// The end of a march that left its loop without a hit, at t after `steps` samples. Out of
-// steps while passing a surface by, still within a tenth of the threshold (`passing`), is a
-// hit where the ray is: a ray that grazes a silhouette crawls past it in steps of about a
-// hundredth of the threshold and can spend the whole budget there, and the pixel's footprint
-// touches that surface, so the pixel shows it rather than a hole with the background behind.
-// Further out it is not: a ray just above a ground plane stays within the threshold (which
-// grows with t) to the horizon, and made a row of false hits at whatever t the steps ran out.
-fn march_end(t: f32, steps: u32, passing: bool) -> Hit {
-    return Hit(t, steps, passing && steps >= MAX_STEPS && t <= MAX_DISTANCE);
+// Whether a march has spent its samples. `max_steps` bounds the march's own samples (with the
+// refinement that ends in a hit), and the samples of refinements that end in a pass by have
+// a budget of their own of the same size, so a ray takes at most twice MAX_STEPS samples and
+// 40 more. A ray that grazes a surface whose distance is a bound divided by a Lipschitz
+// factor (displacement, twist) comes within the threshold again and again, and each time up
+// to 20 samples of a refinement crawl on as the march would: counted with the march's, they
+// ended such rays at 256, specks along the ribbed blob's silhouette of
+// examples/spec_section10.sdf at 512x512 (docs/accuracy.md, "Grazing rays along a ribbed
+// silhouette").
+fn march_spent(steps: u32, passed: u32) -> bool {
+    return steps - passed >= MAX_STEPS || passed >= MAX_STEPS;
+}
+
+// The end of a march that left its loop without a hit, at t after `steps` samples, `passed`
+// of them in refinements that passed by. Out of steps (`march_spent`) while passing a
+// surface by, still within a tenth of the threshold (`passing`), is a hit where the ray is:
+// a ray that grazes a silhouette crawls past it in steps of about a hundredth of the
+// threshold and can spend the whole budget there, and the pixel's footprint touches that
+// surface, so the pixel shows it rather than a hole with the background behind. Further out
+// it is not: a ray just above a ground plane stays within the threshold (which grows with t)
+// to the horizon, and made a row of false hits at whatever t the steps ran out.
+fn march_end(t: f32, steps: u32, passed: u32, passing: bool) -> Hit {
+    return Hit(t, steps, passing && march_spent(steps, passed) && t <= MAX_DISTANCE);
 }
 
 // How near a ray that passes a surface by without crossing it must come to count as touching

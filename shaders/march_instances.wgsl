@@ -12,9 +12,10 @@
 // instance marched alone", "A mixed union's other children marched alone"). Each stretch is
 // marched as the union was (`march_sampled` plain or relaxed, `refine_start` and the rest,
 // in one loop as in `shaders/march_merged.wgsl`), from a fresh state at its entry, with
-// MAX_STEPS samples of its own: one sample of the union's march moved every instance whose
-// stretch held t, and a crowd of 48 spheres about one point (`tests/instances.rs`) took 65
-// samples a ray, missing silhouettes, with one budget for all. `steps` counts every sample.
+// budgets of its own (`march_spent`): one sample of the union's march moved every instance
+// whose stretch held t, and a crowd of 48 spheres about one point (`tests/instances.rs`)
+// took 65 samples a ray, missing silhouettes, with one budget for all. `steps` counts every
+// sample.
 // Where a full list left nodes out (`ray_resume`), the ray lists again from there, up to the
 // nearest hit so far, and marches those too. The instance hit (0: the other children, or
 // none) is kept for the normal and the material (`ray_end_leaf`), and the t for the other
@@ -40,8 +41,10 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         var leaf = 0u;
         var stop = -1.0;
         var done = true;
-        // The samples taken before the stretch being marched.
+        // The samples taken before the stretch being marched, and the stretch's samples in
+        // refinements that passed by (`march_spent`).
         var begun = 0u;
+        var passed = 0u;
         loop {
             if refining {
                 let next = refine_next(&r);
@@ -56,15 +59,16 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                     done = true;
                 }
                 if next == REFINE_PASS {
+                    passed = passed + r.i;
                     march_passed(&s, r.t);
                     refining = false;
                 }
             }
-            if !refining && !done && steps - begun >= MAX_STEPS {
+            if !refining && !done && march_spent(steps - begun, passed) {
                 // Out of steps while passing the stretch's surface within a tenth of the
                 // threshold is a hit where the ray is (`march_end`); either way the stretch
                 // is done.
-                let e = march_end(s.t, steps - begun, s.passing && s.close);
+                let e = march_end(s.t, steps - begun, passed, s.passing && s.close);
                 if e.hit && e.t < best {
                     best = e.t;
                     found = true;
@@ -85,6 +89,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 s = march_start(vec2<f32>(ray_in[k], stop));
                 done = false;
                 begun = steps;
+                passed = 0u;
                 k = k + 1u;
             }
             let t = select(s.t, r.t, refining);

@@ -14,7 +14,9 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     // Only the stretch inside the scene's bounds can hold a surface.
     let span = ray_span(ro, rd);
     var s = march_start(span);
+    // Every sample, and those of refinements that passed by (`march_spent`).
     var steps = 0u;
+    var passed = 0u;
     // Whether a sample within the threshold is being refined, and the refinement's state.
     var refining = false;
     var r = refine_start(0.0, 0.0, 0.0);
@@ -26,11 +28,12 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
                 return Hit(r.t, steps, r.t <= MAX_DISTANCE);
             }
             if next == REFINE_PASS {
+                passed = passed + r.i;
                 march_passed(&s, r.t);
                 refining = false;
             }
         }
-        if !refining && (steps >= MAX_STEPS || s.t > span.y) {
+        if !refining && (march_spent(steps, passed) || s.t > span.y) {
             break;
         }
         let t = select(s.t, r.t, refining);
@@ -46,5 +49,5 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             refining = true;
         }
     }
-    return march_end(s.t, steps, s.passing && s.close);
+    return march_end(s.t, steps, passed, s.passing && s.close);
 }

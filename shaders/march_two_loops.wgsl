@@ -12,14 +12,16 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     // Only the stretch inside the scene's bounds can hold a surface.
     let span = ray_span(ro, rd);
     var s = march_start(span);
+    // Every sample, and those of refinements that passed by (`march_spent`).
     var steps = 0u;
+    var passed = 0u;
     loop {
         // Set when a sample comes within the threshold: its distance and the threshold.
         var near = false;
         var dn = 0.0;
         var eps_n = 0.0;
         loop {
-            if steps >= MAX_STEPS || s.t > span.y {
+            if march_spent(steps, passed) || s.t > span.y {
                 break;
             }
             let t = s.t;
@@ -41,8 +43,9 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             // A surface refined to beyond MAX_DISTANCE is out of range: a miss.
             return Hit(refined.t, refined.steps, refined.t <= MAX_DISTANCE);
         }
+        passed = passed + refined.steps - steps;
         steps = refined.steps;
         march_passed(&s, refined.t);
     }
-    return march_end(s.t, steps, s.passing && s.close);
+    return march_end(s.t, steps, passed, s.passing && s.close);
 }

@@ -69,7 +69,10 @@ struct Row {
     time: Duration,
     steps_mean: f64,
     steps_p99: f64,
-    /// Share of pixels whose march used all of `max_steps`.
+    /// Share of pixels that took `max_steps` samples or more: every ray out of steps, and
+    /// those that needed a refinement's budget beside the march's to stay in (the shader's
+    /// `march_spent`: a pass by's refinements have a budget of their own, and the steps
+    /// AOV counts every sample).
     at_max: f64,
     metrics: Metrics,
     pareto: bool,

@@ -207,3 +207,27 @@ fn spec_section_10_at_256x192() {
         192,
     );
 }
+
+#[test]
+// Was 5 holes: the rays that graze the ribbed blob's left silhouette come within the
+// threshold again and again, and each refinement that passes it by takes up to 20 samples.
+// Counted against the march's 256 they ended such rays (12 interior mismatches in
+// `sdfc render examples/spec_section10.sdf --compare` at 512x512); those samples now have a
+// budget of their own (`march_spent`, shaders/hit.wgsl). The example's camera aimed at pixel
+// (140, 166) of 512x512 with a fov of 48/512 of its own, so that the 64x48 image's pixels
+// are the same size as there (the surface threshold is half a pixel's footprint).
+fn spec_section_10_blob_silhouette_at_512x512_pixels() {
+    let rel = "examples/spec_section10.sdf";
+    let source = std::fs::read_to_string(common::root().join(rel)).unwrap();
+    let camera = "camera { position: [0, 1.5, 5], target: [0, 0.5, 0], fov: 50deg }";
+    assert!(source.contains(camera), "{rel}: the camera moved");
+    let source = source.replace(
+        camera,
+        "camera { position: [0, 1.5, 5], target: [-1.0206109903, 1.3291860056, 0.1082543212], \
+         fov: 5.0063362833deg }",
+    );
+    check(
+        "spec section 10, the blob's left silhouette at 512x512's pixel size",
+        &compile(rel, &source),
+    );
+}

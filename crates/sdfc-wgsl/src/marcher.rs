@@ -178,9 +178,10 @@ const MARCH_ALONE_HEAD: &str = "    var best = span.y;
 const MARCH_REST_HEAD: &str =
     "    // The union's other children first, on their own (`march_rest`): their hit bounds
     // the lists and the instances' marches; so does where they ran out of steps (the
-    // union's march ended there too: nothing is known beyond).
+    // union's march ended there too: nothing is known beyond). A march that did not ends
+    // beyond the span.
     let rest = march_rest(ro, rd, pixel);
-    var best = select(span.y, rest.t, rest.hit || rest.steps >= MAX_STEPS);
+    var best = select(min(span.y, rest.t), rest.t, rest.hit);
     var found = rest.hit;
     var best_leaf = 0u;
     var steps = rest.steps;

@@ -3,7 +3,8 @@
 A scalar f64 port of the terrain's distance (shaders/noise.wgsl, the fbm and heightfield
 of the compiled scene, its ray-aware divisor) and of the marchers as they stand on
 2026-12-04: shaders/march_plain.wgsl, shaders/march_relaxed.wgsl and `refine` in
-shaders/hit.wgsl (without the 2.4e-7 t threshold floor, which never binds here). Checked
+shaders/hit.wgsl (without the 2.4e-7 t threshold floor, which never binds here), with the
+two step budgets of 2026-12-07 (`march_spent`). Checked
 against lavapipe's steps AOV: 64x48 plain 34.01 / relaxed 28.73 steps per pixel against
 34.0 / 28.8 on the device; 128x96 35.77 / 29.53 against 35.8 / 29.5. Step counts are
 exact on any device, so rules for relaxation can be tried here in seconds; confirm a
@@ -163,14 +164,19 @@ def refine(S, ro, rd, t0, d0, steps0, eps, st):
         return (max(reach, t), steps, False)
     return (t, steps, True)
 
-def march_end(t, steps, passing):
-    return (t, steps, passing and steps >= MAX_STEPS and t <= MAX_DISTANCE)
+def march_spent(steps, passed):
+    # Two budgets since 2026-12-07 (shaders/hit.wgsl): the march's own samples, and those of
+    # refinements that passed by.
+    return steps - passed >= MAX_STEPS or passed >= MAX_STEPS
+
+def march_end(t, steps, passed, passing):
+    return (t, steps, passing and march_spent(steps, passed) and t <= MAX_DISTANCE)
 
 def march_plain(S, ro, rd, pixel, st, span=(0.0, MAX_DISTANCE)):
-    t = span[0]; steps = 0; passing = False; close = False
+    t = span[0]; steps = 0; passed = 0; passing = False; close = False
     last = 0.0; jump = 0.0; leap = False
     while True:
-        if steps >= MAX_STEPS or t > span[1]:
+        if march_spent(steps, passed) or t > span[1]:
             break
         d = S.dist(at(ro, rd, t), rd); steps += 1
         if jump > 0.0 and d + last < jump:
@@ -187,17 +193,18 @@ def march_plain(S, ro, rd, pixel, st, span=(0.0, MAX_DISTANCE)):
             rt, rs, rh = refine(S, ro, rd, t, d, steps, eps, st)
             if rh:
                 return (rt, rs, rt <= MAX_DISTANCE)
+            passed += rs - steps
             steps = rs; t = rt; passing = True; last = 0.0; close = True; leap = True
             continue
         passing = False
         t = t + d
-    return march_end(t, steps, passing and close)
+    return march_end(t, steps, passed, passing and close)
 
 def march_relaxed(S, ro, rd, pixel, st, R=1.6, rule=None, span=(0.0, MAX_DISTANCE)):
-    t = span[0]; steps = 0; prev_radius = 0.0; step = 0.0
+    t = span[0]; steps = 0; passed = 0; prev_radius = 0.0; step = 0.0
     passing = False; close = False; leap = False; retry = False
     while True:
-        if steps >= MAX_STEPS or t > span[1]:
+        if march_spent(steps, passed) or t > span[1]:
             break
         d = S.dist(at(ro, rd, t), rd); steps += 1
         radius = abs(d)
@@ -218,6 +225,7 @@ def march_relaxed(S, ro, rd, pixel, st, R=1.6, rule=None, span=(0.0, MAX_DISTANC
                 rt, rs, rh = refine(S, ro, rd, t, d, steps, eps, st)
                 if rh:
                     return (rt, rs, rt <= MAX_DISTANCE)
+                passed += rs - steps
                 steps = rs; t = rt; prev_radius = 0.0; step = 0.0
                 passing = True; close = True; leap = True
                 continue
@@ -235,7 +243,7 @@ def march_relaxed(S, ro, rd, pixel, st, R=1.6, rule=None, span=(0.0, MAX_DISTANC
                 step = d
         prev_radius = radius
         t = t + step
-    return march_end(t, steps, passing and close)
+    return march_end(t, steps, passed, passing and close)
 
 def run(W, H, marcher, mode="iso", **kw):
     S = Scene(mode)

@@ -20,10 +20,10 @@ fn march_threshold(t: f32, pixel: f32) -> f32 {
     return max(surface_epsilon(t, pixel), 2.4e-7 * t);
 }
 
-// Whether a march has spent its samples. `max_steps` bounds the march's own samples (with the
-// refinement that ends in a hit), and the samples of refinements that end in a pass by have
-// a budget of their own of the same size, so a ray takes at most twice MAX_STEPS samples and
-// 40 more. A ray that grazes a surface whose distance is a bound divided by a Lipschitz
+// Whether a march has spent its samples: MAX_STEPS of its own, and MAX_STEPS more in
+// refinements that end in a pass by. Both are checked only between refinements, so a march
+// takes at most 2 MAX_STEPS + 19 samples (the refinement that ends it, in a hit or a pass,
+// takes up to 20). A ray that grazes a surface whose distance is a bound divided by a Lipschitz
 // factor (displacement, twist) comes within the threshold again and again, and each time up
 // to 20 samples of a refinement crawl on as the march would: counted with the march's, they
 // ended such rays at 256, specks along the ribbed blob's silhouette of

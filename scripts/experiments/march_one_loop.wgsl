@@ -1,5 +1,6 @@
 // The plain marcher before 2026-12-04: one loop, refinement called inside it (the baseline
-// of scripts/gpu-bench.sh's `marcher_loops`; docs/performance.md, "The marcher's two loops").
+// of scripts/gpu-bench.sh's `marcher_loops`; docs/performance.md, "The marcher's two loops"),
+// with the two step budgets of 2026-12-07 (`march_spent`) so that it takes the same samples.
 // Plain sphere tracing: step by the distance until it is below the surface threshold.
 // A hit is refined to the surface (see `refine`); a ray that only passes a surface by within
 // the threshold marches on.
@@ -7,7 +8,9 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     // Only the stretch inside the scene's bounds can hold a surface.
     let span = ray_span(ro, rd);
     var t = span.x;
+    // Every sample, and those of refinements that passed by (`march_spent`).
     var steps = 0u;
+    var passed = 0u;
     // Whether the last sample was a surface passed by within the threshold.
     var passing = false;
     // Whether that pass still hugs the surface (the last sample within a tenth of the
@@ -19,7 +22,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
     var jump = 0.0;
     var leap = false;
     loop {
-        if steps >= MAX_STEPS || t > span.y {
+        if march_spent(steps, passed) || t > span.y {
             break;
         }
         let d = scene_distance(ro + rd * t);
@@ -56,6 +59,7 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
             }
             // The ray passed the surface by: march on from where refinement left it (and
             // refinement stopped where the distance grew again).
+            passed = passed + refined.steps - steps;
             steps = refined.steps;
             t = refined.t;
             passing = true;
@@ -67,5 +71,5 @@ fn march(ro: vec3<f32>, rd: vec3<f32>, pixel: f32) -> Hit {
         passing = false;
         t = t + d;
     }
-    return march_end(t, steps, passing && close);
+    return march_end(t, steps, passed, passing && close);
 }

@@ -178,8 +178,8 @@ const MARCH_ALONE_HEAD: &str = "    var best = span.y;
 const MARCH_REST_HEAD: &str =
     "    // The union's other children first, on their own (`march_rest`): their hit bounds
     // the lists and the instances' marches; so does where they ran out of steps (the
-    // union's march ended there too: nothing is known beyond). A march that did not ends
-    // beyond the span.
+    // union's march ended there too: nothing is known beyond). A march that neither hit nor
+    // ran out ends at or beyond span.y.
     let rest = march_rest(ro, rd, pixel);
     var best = select(min(span.y, rest.t), rest.t, rest.hit);
     var found = rest.hit;

@@ -1,6 +1,6 @@
 //! `scene_distance_ray(p, rd)`, the distance the marcher steps with where a `displace` or
 //! `heightfield` node can divide by its slope along the ray instead of its bound in every
-//! direction. Checked with the f64 evaluator over random points and unit directions: (a)
+//! direction, and a plane by its slope along the ray (its distance along the ray). Checked with the f64 evaluator over random points and unit directions: (a)
 //! along the ray it is 1-Lipschitz (difference quotients at separations from 1e-4 to 1 never
 //! exceed 1 + 1e-6), which is what makes a step of its value safe; (b) it has the sign of
 //! `scene_distance` (the same surface); (c) it is larger than `scene_distance` somewhere, so
@@ -148,6 +148,40 @@ fn beside_a_smooth_blend() {
     );
 }
 
+/// A plane divides by its slope along the ray, `|n| . |u|`: a floor, a tilted plane turned
+/// and mirrored (where the direction's signs are unknown), a scaled one, and one in a smooth
+/// blend, which keeps its distance (the sign check would catch it otherwise).
+#[test]
+fn planes() {
+    let src = "scene = sphere(1) | plane([0, 1, 0], -1)
+               | plane([0.6, 0.8, 0], 2).rotate_z(20deg).mirror_x()
+               | plane([0, 0, 1], 1.5).scale(2).translate([0, 0, -3])
+               | union(box(0.5), plane([1, 0, 0], -1.5), smooth: 0.3);
+";
+    check("planes", src, [-3.0; 3], [3.0; 3], 40_000);
+}
+
+/// The ray distance of a floor is the distance along the ray to it: exact, so one sample
+/// of the ray function at a point above the floor lands on it.
+#[test]
+fn a_floor_is_reached_in_one_step() {
+    let p = program(
+        "scene = plane([0, 1, 0], 0);
+",
+    );
+    for rd in [[0.0f64, -1.0, 0.0], [0.6, -0.8, 0.0], [0.9998, -0.02, 0.0]] {
+        let n = (rd[0] * rd[0] + rd[1] * rd[1] + rd[2] * rd[2]).sqrt();
+        let rd = rd.map(|c| c / n);
+        let x = [0.0, 2.0, 0.0];
+        let t = dist_ray(&p, x, rd);
+        let y = x[1] + rd[1] * t;
+        assert!(
+            y.abs() < 1e-5,
+            "along {rd:?}: one step of {t} ends at y = {y}"
+        );
+    }
+}
+
 /// Scenes without such nodes have no ray function: their shaders are unchanged.
 #[test]
 fn only_where_it_helps() {
@@ -160,6 +194,7 @@ fn only_where_it_helps() {
         "scene = union(displace(sphere(1), |p| sin(30 * p.y) / 16), box(1), smooth: 0.3);\n",
         "scene = displace(sphere(1), |p| sin(30 * p.y) / 16).round(0.1);\n",
         "scene = displace(displace(sphere(1), |p| sin(30 * p.y) / 16), |p| sin(20 * p.x) / 20).onion(0.1);\n",
+        "scene = union(sphere(1), plane([0, 1, 0], 0.5), smooth: 0.3);\n",
     ] {
         assert!(program(src).distance_ray.is_none(), "{src}");
     }

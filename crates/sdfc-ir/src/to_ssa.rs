@@ -83,6 +83,11 @@ pub fn template_functions(
         .collect()
 }
 
+/// The least slope along the ray a plane is divided by in `scene_distance_ray`
+/// (`Builder::plane_along_ray`): a ray parallel to a plane steps by a thousand times its
+/// height, not for ever.
+const PLANE_SLOPE_FLOOR: f32 = 1e-3;
+
 /// Builds `scene_distance` and `scene_material` (and their group functions).
 pub fn functions(scene: &Scene, cull: bool) -> Functions {
     let counts = crate::lower::expansion::instance_counts(&scene.shapes);
@@ -112,7 +117,18 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
         results: m.to_vec(),
     };
     groups = b.groups;
-    let along = info.iter().any(|i| i.partials.is_some());
+    // Nodes whose slope along a ray can be below their bound: displacements and heightfields
+    // (their partial derivatives) and planes (`plane_along_ray`).
+    let along = info.iter().any(|i| i.partials.is_some())
+        || scene.shapes.iter().any(|n| {
+            matches!(
+                n.kind,
+                ShapeKind::Prim {
+                    prim: Prim::Plane,
+                    ..
+                }
+            )
+        });
     let mut distance_ray = None;
     if along {
         let mut b = Builder::new(scene, &counts, &analysis, false, groups);
@@ -560,6 +576,29 @@ impl<'s> Builder<'s> {
         self.hinted(l, "l")
     }
 
+    /// In `scene_distance_ray`, a plane's distance `d` (normal `n`) over its slope along the
+    /// ray, `|n| . |u|` (with the signs of `u`'s components unknown below a mirror, that
+    /// bounds `|n . u|`), at least `PLANE_SLOPE_FLOOR`: the distance along the ray to the
+    /// plane. A ray that descends to a floor at a grazing angle took plain steps of its
+    /// height, which shrinks by the slope's share at each (a slope of 0.015: 190 samples from
+    /// t = 8 to 85, and the ribbed sphere's rays ran out of steps at 512x512); along the ray
+    /// it is one step. Where values matter (below a smooth blend and the rest, see
+    /// `isotropic`) the plane keeps its distance.
+    fn plane_along_ray(&mut self, d: NodeId, n: NodeId) -> NodeId {
+        let Some(u) = self.dir.filter(|_| !self.values_matter) else {
+            return d;
+        };
+        let n = self.g.builtin(Builtin::Abs, &[n]);
+        let u = self.g.builtin(Builtin::Abs, &[u]);
+        let slope = self.g.builtin(Builtin::Dot, &[n, u]);
+        let floor = self.f(PLANE_SLOPE_FLOOR);
+        let slope = self.g.builtin(Builtin::Max, &[slope, floor]);
+        let slope = self.hinted(slope, "l");
+        self.used_dir = true;
+        let d = self.op(Op::Div, &[d, slope]);
+        self.hinted(d, "d")
+    }
+
     /// Whether dividing by `l` may shrink a step: not for a constant divisor of 1.
     fn divides(&self, l: NodeId) -> bool {
         !matches!(self.g.as_const(l), Some(Value::F(x)) if x <= 1.0)
@@ -627,7 +666,8 @@ impl<'s> Builder<'s> {
             }
             Prim::Plane => {
                 let d = self.g.builtin(Builtin::Dot, &[p, a[0]]);
-                self.op(Op::Sub, &[d, a[1]])
+                let d = self.op(Op::Sub, &[d, a[1]]);
+                self.plane_along_ray(d, a[0])
             }
             Prim::Torus => self.op(Op::Helper(Helper::SdTorus), &[p, a[0], a[1]]),
             Prim::Cylinder => {

@@ -37,7 +37,8 @@ pub struct Plan {
 /// instances (`sdfc_ir::instances::find_mixed`), or where the shader needs the union as
 /// code: analytic
 /// normals differentiate the distance function, and `scene_distance_ray` steps along rays
-/// through nodes the walk does not have.
+/// through displacements and heightfields, which the walk does not have (not for planes
+/// alone: the other children's march, `march_rest`, keeps their plain distance).
 pub fn plan(p: &Program) -> Option<Plan> {
     plan_at_least(p, MIN_CHILDREN, None)
 }
@@ -59,7 +60,10 @@ pub fn plan_at_least(p: &Program, min: usize, crowd: Option<usize>) -> Option<Pl
 /// kinds' functions are built.
 fn found_at_least(p: &Program, min: usize) -> Option<Instances> {
     let frame = p.marched();
-    if p.scene.render.normals == Normals::Analytic || frame.distance_ray.is_some() {
+    // A ray function for planes alone does not count: the walk's march reaches a floor
+    // through `march_rest` as before, and the data form's gain is the larger.
+    let slopes = p.analysis.nodes.iter().any(|i| i.partials.is_some());
+    if p.scene.render.normals == Normals::Analytic || (frame.distance_ray.is_some() && slopes) {
         return None;
     }
     find_mixed(&p.scene, &p.analysis, frame.origin.map(f64::from), min)

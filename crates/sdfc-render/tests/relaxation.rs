@@ -7,15 +7,24 @@
 //! 9.7 -> 8.3, spec section 10 27.1 -> 21.0, terrain 35.8 -> 29.5, fractals 24.7 -> 19.9,
 //! ribbed sphere 21.1 -> 16.4, 300-shape grid 4.2 -> 3.9; since rays above a floor's
 //! half-space take no step (2026-12-06), terrain 26.9 -> 23.6, fractals 20.1 -> 16.8.
+//! Since a plane's distance is taken along the ray (2026-12-07), rays reach a floor in a
+//! step or two, and relaxation has little left to save where the floor was the long march:
+//! at 64x48 spec section 10 17.2 -> 15.1, terrain 25.2 -> 22.9, and it costs steps on the
+//! fractals (9.9 -> 10.1) and the ribbed sphere (7.6 -> 8.1).
 
 mod common;
 
 use common::against_reference::render_against_reference;
 use common::{compile, renderer, root};
 
-/// At least this fraction of the plain marcher's steps is saved on each scene below but the
-/// terrain (the measured savings at 64x48 were 15% to 23%).
+/// At least this fraction of the plain marcher's steps is saved on spec section 10 (the
+/// measured savings at 64x48 were 15% to 23%, 12% since planes are stepped along the ray).
 const LEAST_SAVING: f64 = 0.1;
+
+/// Relaxation's largest cost allowed where its saving was the floor's march, which a plane's
+/// distance along the ray now takes in a step or two (`scene_distance_ray`): at most a tenth
+/// more steps than the plain marcher (measured at 64x48: fractals +2%, ribbed sphere +7%).
+const MOST_COST_FLOORED: f64 = -0.1;
 
 /// The terrain's floor: 9.1% measured at 64x48 since its rays into the sky, where relaxation
 /// saved most (their long grazing marches), take no step at all (`ray_span` ends them at
@@ -96,10 +105,10 @@ fn terrain() {
 
 #[test]
 fn fractals() {
-    check("examples/fractals.sdf");
+    check_saving("examples/fractals.sdf", MOST_COST_FLOORED);
 }
 
 #[test]
 fn ribbed_sphere() {
-    check("examples/ribbed_sphere.sdf");
+    check_saving("examples/ribbed_sphere.sdf", MOST_COST_FLOORED);
 }

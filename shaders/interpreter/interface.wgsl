@@ -50,6 +50,9 @@ struct Frame {
     instances_at: u32,
     // The size of the scene's smallest shape (the specialised shader's FEATURE_SIZE).
     feature_size: f32,
+    // The instruction range of the distance the march steps with along a ray
+    // (`scene_distance_ray`; `distance_code` where the scene has none).
+    distance_ray_code: vec2<u32>,
 }
 
 @group(0) @binding(0) var<storage, read> frame: Frame;

@@ -27,6 +27,8 @@ var<private> bulb: MandelbulbOrbit;
 var<private> bulb_int: MandelbulbIntOrbit;
 var<private> sponge: MengerLevel;
 var<private> gasket: SierpinskiLevel;
+// The ray's direction in `scene_distance_ray` (`OP_RAY`).
+var<private> ray_dir: vec3<f32>;
 // Whether a run of the code was cut short (see `interpret`): the pixel's alpha is then 0, so
 // that the renderer can tell (it sets every alpha back to 1).
 var<private> cut: bool = false;
@@ -66,6 +68,7 @@ fn execute(regs: ptr<function, array<vec4<f32>, MAX_REGISTERS>>, at: u32) -> u32
         case OP_RET: {}
         case OP_PARAM: { r = data[frame.params_at + imm]; }
         case OP_TIME: { r = vec4<f32>(frame.time); }
+        case OP_RAY: { r = vec4<f32>(ray_dir, 0.0); }
         // Writes nothing new: its destination is register 0, rewritten with itself.
         case OP_SKIP_UNLESS_LESS: { if !(a.x < b.x) { pc = pc + imm; } r = (*regs)[dst]; }
         case OP_MOV: { r = a; }

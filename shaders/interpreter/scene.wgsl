@@ -6,6 +6,14 @@ fn scene_distance(p: vec3<f32>) -> f32 {
     return interpret(frame.distance_code, p).a.x;
 }
 
+// The distance the march steps with along the unit direction rd, as the specialised
+// shader's `scene_distance_ray` (the same as `scene_distance` where the scene has none):
+// `OP_RAY` reads rd.
+fn scene_distance_ray(p: vec3<f32>, rd: vec3<f32>) -> f32 {
+    ray_dir = rd;
+    return interpret(frame.distance_ray_code, p).a.x;
+}
+
 // The material at a surface point p.
 fn scene_material(p: vec3<f32>) -> SceneMaterial {
     let o = interpret(frame.material_code, p);

@@ -133,3 +133,43 @@ fn by_default_a_crowd_stays_code() {
     // A grid is no crowd: one box holds each point.
     assert!(as_data(&compiled(AUTO_INSTANCES, &Options::default())));
 }
+
+/// A grid of 20 with `extra` as more children of its union: fewer than a group function's
+/// children (`GROUP_SIZE`), whose bodies never see the ray's direction.
+fn grid_with(extra: &str) -> String {
+    let src = grid_scene(20);
+    let cut = src.rfind(");").expect("the union's end");
+    format!("{}    {extra},\n{}", &src[..cut], &src[cut..])
+}
+
+/// Asked for data, a union with a floor beside the instances stays data: the instances'
+/// march never needed the ray function, and the floor's own march (`march_rest`) keeps its
+/// plain distance. A displacement that divides by its slope along the ray keeps it code (the
+/// walk has no ray function); one in a smooth blend, which does not divide, leaves it data,
+/// floor or not.
+#[test]
+fn a_floor_leaves_the_union_data_and_a_displacement_along_the_ray_does_not() {
+    let opts = Options {
+        instances: Instances::Always,
+        ..Options::default()
+    };
+    let floor = "plane([0, 1, 0], -1)";
+    let ribs = "displace(sphere(1), |p| sin(30 * p.y) / 16).translate([0, 8, 0])";
+    let blended =
+        "union(displace(sphere(1), |p| sin(30 * p.y) / 16), box(0.8), smooth: 0.3).translate([0, 8, 0])";
+    for (extra, data) in [
+        (floor.to_string(), true),
+        (ribs.to_string(), false),
+        (format!("{blended}, {floor}"), true),
+        (format!("{ribs}, {floor}"), false),
+    ] {
+        let c = compile(&grid_with(&extra), &opts).unwrap_or_else(|f| panic!("{extra}: {f}"));
+        assert_eq!(as_data(&c), data, "{extra}");
+        // The code form marches with the ray function.
+        assert_eq!(
+            c.wgsl.contains("scene_distance_ray(ro + rd * t, rd)"),
+            !data,
+            "{extra}"
+        );
+    }
+}

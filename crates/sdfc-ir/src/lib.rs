@@ -35,8 +35,13 @@ pub struct Program {
     pub scene: Scene,
     pub distance: Func,
     /// `scene_distance_ray(p, rd)`, which the marcher steps with where the scene has nodes
-    /// whose slope along a ray is below their isotropic bound (`to_ssa::along_ray`).
+    /// whose slope along a ray is below their isotropic bound (`to_ssa::along_ray`) or planes.
     pub distance_ray: Option<Func>,
+    /// Whether a displacement or heightfield divides by its slope along the ray in
+    /// `distance_ray` (the camera-relative one too, built from the same shapes), rather than
+    /// planes alone: a union read as data is marched without the ray function, which only
+    /// planes can do without (sdfc-wgsl's `instances::plan`: `march_rest` reaches them).
+    pub distance_ray_slopes: bool,
     pub material: Func,
     /// Group functions called by `distance`, `material` and each other (`Op::Call`).
     pub groups: Vec<Func>,
@@ -295,6 +300,7 @@ pub fn back(front: Front, opts: &IrOptions) -> (Option<Stages>, Vec<Diagnostic>)
         scene: merged,
         distance,
         distance_ray,
+        distance_ray_slopes: funcs.distance_ray_slopes,
         material,
         groups,
         analysis,

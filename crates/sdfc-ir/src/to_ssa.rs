@@ -2,6 +2,7 @@
 //! `scene_material(p)`: point maps become arithmetic on `p`, primitives become helper calls,
 //! combinations become `min`/`max` (and, for materials, selects and blends).
 
+use crate::analysis::Exactness;
 use crate::func::{Func, FuncKind};
 use crate::graph::{Graph, NodeId};
 use crate::hash::FxHashMap;
@@ -46,6 +47,9 @@ pub struct Functions {
     /// `scene_distance_ray(p, rd) -> f32` for the marcher, where some node of the scene can
     /// step further along a known direction than its isotropic bound allows (`along_ray`).
     pub distance_ray: Option<Func>,
+    /// Whether a displacement or heightfield divides by its slope along the ray in
+    /// `distance_ray` (not only planes: see [`crate::Program::distance_ray_slopes`]).
+    pub distance_ray_slopes: bool,
 }
 
 /// `instance_shape{k}(p) -> f32` for each primitive of `templates` (the kinds of a union
@@ -130,6 +134,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
             )
         });
     let mut distance_ray = None;
+    let mut distance_ray_slopes = false;
     if along {
         let mut b = Builder::new(scene, &counts, &analysis, false, groups);
         b.cull = cull;
@@ -145,6 +150,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
                 graph: b.g,
                 results: vec![d],
             });
+            distance_ray_slopes = b.used_slopes;
         }
         groups = b.groups;
     }
@@ -153,6 +159,7 @@ pub fn functions(scene: &Scene, cull: bool) -> Functions {
         material,
         groups: groups.funcs,
         distance_ray,
+        distance_ray_slopes,
     }
 }
 
@@ -203,6 +210,9 @@ struct Builder<'s> {
     /// Whether some node divided by its slope along `dir` (else the ray function is not
     /// worth emitting).
     used_dir: bool,
+    /// Whether a displacement or heightfield divided by its slope along `dir` (`along_ray`),
+    /// as well as or instead of planes (`plane_along_ray`).
+    used_slopes: bool,
     consts: FxHashMap<NodeId, Option<Value<f32>>>,
     groups: Groups,
 }
@@ -230,6 +240,7 @@ impl<'s> Builder<'s> {
             dir_signs: false,
             values_matter: false,
             used_dir: false,
+            used_slopes: false,
             consts: FxHashMap::default(),
             groups,
         }
@@ -475,7 +486,7 @@ impl<'s> Builder<'s> {
                     self.combine(*op, *smooth, children, p, mat)
                 }
             }
-            ShapeKind::Map { map, child } => self.map(map, *child, p, mat),
+            ShapeKind::Map { map, child } => self.map(s, map, *child, p, mat),
             ShapeKind::Modify { modifier, child } => {
                 let (d, m) = self.isotropic(|b| b.shape(*child, p, mat));
                 let d = match *modifier {
@@ -572,6 +583,7 @@ impl<'s> Builder<'s> {
             self.op(Op::Add, &[one, slope])
         };
         self.used_dir = true;
+        self.used_slopes = true;
         let l = self.g.builtin(Builtin::Min, &[l, slope]);
         self.hinted(l, "l")
     }
@@ -890,6 +902,7 @@ impl<'s> Builder<'s> {
 
     fn map(
         &mut self,
+        s: ShapeId,
         map: &PointMap,
         child: ShapeId,
         p: NodeId,
@@ -903,6 +916,13 @@ impl<'s> Builder<'s> {
         let (dir, dir_signs) = (self.dir, self.dir_signs);
         if matches!(map, PointMap::Mirror(_) | PointMap::Elongate(_)) {
             self.dir_signs = true;
+        }
+        // A repetition whose copy does not fit its cell (the analysis calls it neither a
+        // distance nor a bound) jumps where a cell meets the next: its value bounds the
+        // distance to its own cell's copy only, and a step along the ray larger than that
+        // value, which may be many times larger on a grazing ray, would pass the others'.
+        if self.analysis.nodes[s.index()].exactness == Exactness::Neither {
+            self.dir = None;
         }
         let mut cells: Option<Cells> = None;
         let q = match map {

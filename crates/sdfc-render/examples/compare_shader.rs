@@ -10,8 +10,8 @@
 //! `S.wgsl:D.bin` reads the bytes of `D.bin` as read-only storage at binding 3
 //! (`scripts/bvh-experiment.py`); OTHER written `instances` is the scene compiled with
 //! `Options::instances` (its union as data). `SDFC_COMPARE_REFERENCE=1` also prints each
-//! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths
-//! differ (and, with the reference, those whose depths differ from its);
+//! frame's error against the f64 reference, `SDFC_COMPARE_PIXELS=1` the pixels whose depths or
+//! colours differ (and, with the reference, those whose depths differ from its);
 //! `SDFC_COMPARE_AT="x,y x,y"` prints both frames' depth and steps at those pixels (a variant
 //! can write a count of its own into the steps AOV); `SDFC_COMPARE_ALL_PIXELS=1` runs the own
 //! (or base) shader on every pixel, the other on the tiles its rays can meet the scene in
@@ -175,11 +175,18 @@ fn compare(scene: &str, other: &str, size: &str, base: Option<&str>) -> Result<(
         .map(|(x, y)| ((x - y).abs() / x.abs().max(1e-6)) as f64)
         .collect();
     if set("SDFC_COMPARE_PIXELS") {
-        // The pixels whose depths differ by more than 1e-3 relative, or hit and miss.
+        // The pixels whose depths differ by more than 1e-3 relative, or hit and miss, or
+        // whose colours differ by more than 2/255 (a secondary ray's march).
         let width = opts.width as usize;
         for (i, (x, y)) in da.iter().zip(db).enumerate() {
-            if x.is_finite() != y.is_finite() || (x - y).abs() > 1e-3 * x.abs() {
-                println!("pixel {} {}: depth {x} and {y}", i % width, i / width);
+            let (ca, cb) = (&a.rgba[4 * i..4 * i + 3], &b.rgba[4 * i..4 * i + 3]);
+            let coloured = ca.iter().zip(cb).any(|(p, q)| p.abs_diff(*q) > 2);
+            if coloured || x.is_finite() != y.is_finite() || (x - y).abs() > 1e-3 * x.abs() {
+                println!(
+                    "pixel {} {}: depth {x} and {y}, colour {ca:?} and {cb:?}",
+                    i % width,
+                    i / width
+                );
             }
         }
     }

@@ -62,8 +62,9 @@ fn found_at_least(p: &Program, min: usize) -> Option<Instances> {
     let frame = p.marched();
     // A ray function for planes alone does not count: the walk's march reaches a floor
     // through `march_rest` as before, and the data form's gain is the larger.
-    let slopes = p.analysis.nodes.iter().any(|i| i.partials.is_some());
-    if p.scene.render.normals == Normals::Analytic || (frame.distance_ray.is_some() && slopes) {
+    if p.scene.render.normals == Normals::Analytic
+        || (frame.distance_ray.is_some() && p.distance_ray_slopes)
+    {
         return None;
     }
     find_mixed(&p.scene, &p.analysis, frame.origin.map(f64::from), min)

@@ -81,10 +81,17 @@ const RAY_SAMPLE: &str = "scene_distance(ro + rd * t)";
 /// `scene_distance_ray` where the scene has it, else as written.
 fn sampled(part: &str, view: &View) -> String {
     if view.along_ray {
-        part.replace(RAY_SAMPLE, "scene_distance_ray(ro + rd * t, rd)")
+        along_ray(part)
     } else {
         part.to_string()
     }
+}
+
+/// A marcher part with its samples along the ray taken through `scene_distance_ray` (the
+/// interpreter's always are: its ray function is the plain distance's code where the scene
+/// has none).
+pub(crate) fn along_ray(part: &str) -> String {
+    part.replace(RAY_SAMPLE, "scene_distance_ray(ro + rd * t, rd)")
 }
 
 pub fn emit(scene: &Scene, view: &View) -> String {

@@ -33,15 +33,26 @@ fn the_interpreter_shader_passes_naga() {
     }
     // Drivers inline every call, and each call of the distance function is a copy of the
     // whole interpreter (its switch over every opcode): the march (which refines in its
-    // stepping loop, `shaders/march_merged.wgsl`), the normal, the shadow and ambient
-    // occlusion call it once each, every method of a feature sharing its loop.
-    let calls: Vec<&str> = wgsl
-        .lines()
-        .filter(|l| l.contains("scene_distance(") && !l.contains("fn scene_distance("))
-        .collect();
-    assert_eq!(calls.len(), 4, "{calls:#?}");
+    // stepping loop, `shaders/march_merged.wgsl`) calls the ray function, the normal, the
+    // shadow and ambient occlusion the plain one, once each, every method of a feature
+    // sharing its loop.
+    let calls = |f: &str| -> Vec<&str> {
+        wgsl.lines()
+            .filter(|l| l.contains(&format!("{f}(")) && !l.contains(&format!("fn {f}(")))
+            .collect()
+    };
+    assert_eq!(
+        calls("scene_distance").len(),
+        3,
+        "{:#?}",
+        calls("scene_distance")
+    );
+    assert_eq!(
+        calls("scene_distance_ray"),
+        ["        let d = scene_distance_ray(ro + rd * t, rd);"]
+    );
     assert!(!wgsl.contains("fn refine("));
-    assert_eq!(wgsl.matches("interpret(frame.").count(), 2);
+    assert_eq!(wgsl.matches("interpret(frame.").count(), 3);
     // One instruction per trip of the loop, and no loop inside an instruction: lavapipe
     // counts every loop reached against an invocation's 65 535 trips, lanes masked or not.
     assert_eq!(wgsl.matches("pc = execute(&regs, pc);").count(), 1);

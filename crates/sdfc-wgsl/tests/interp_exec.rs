@@ -1,9 +1,10 @@
 //! The encoder against the IR: every scene's bytecode, run by the CPU twin of the
-//! interpreter shader (`interp::exec`), gives the IR evaluator's distance and material at
-//! random points, plainly compiled and culled (where a culled part is skipped exactly as
-//! the IR's evaluator skips its call). The twin computes in f32 through the same
-//! `sdfc_ir::eval::apply` as the evaluator, so the two agree to rounding: 1e-5 relative
-//! (at least 1e-5 absolute), on every point. A device that disagrees with both is at fault.
+//! interpreter shader (`interp::exec`), gives the IR evaluator's distance, ray distance
+//! (`scene_distance_ray`, along a random direction) and material at random points, plainly
+//! compiled and culled (where a culled part is skipped exactly as the IR's evaluator skips
+//! its call). The twin computes in f32 through the same `sdfc_ir::eval::apply` as the
+//! evaluator, so the two agree to rounding: 1e-5 relative (at least 1e-5 absolute), on every
+//! point. A device that disagrees with both is at fault.
 
 use sdfc_ir::eval::{eval_func, Inputs};
 use sdfc_ir::value::Value;
@@ -78,7 +79,10 @@ fn close(a: f32, b: f32) -> bool {
     a == b || (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0)
 }
 
-fn agree(name: &str, program: &Program) {
+/// Checks the distance, the ray function (along a random direction) and the material at
+/// `POINTS` points; the number of ray functions' checks.
+fn agree(name: &str, program: &Program) -> usize {
+    let mut rays = 0;
     let code = encode(program).unwrap_or_else(|e| panic!("{name}: {e}"));
     // The params' default values, as the data buffer holds them (floats splatted).
     let params: Vec<[f32; 4]> = program
@@ -114,6 +118,25 @@ fn agree(name: &str, program: &Program) {
             close(want, got),
             "{name}: distance at {p:?} (point {k}): IR {want}, bytecode {got}"
         );
+        if let Some(ray) = &program.distance_ray {
+            let u = [0, 1, 2].map(|_| points.unit() - 0.5);
+            let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt().max(1e-3);
+            let rd = u.map(|c| c / n);
+            let inputs = Inputs {
+                ray: rd,
+                ..inputs.clone()
+            };
+            let want = eval_func(ray, &program.groups, &inputs)[0]
+                .scalar()
+                .unwrap();
+            let got = run(&code, Function::DistanceRay(rd), p, &params, 0.7)
+                .unwrap_or_else(|e| panic!("{name}: {e}"))[0][0];
+            rays += 1;
+            assert!(
+                close(want, got),
+                "{name}: ray distance at {p:?} along {rd:?} (point {k}): IR {want}, bytecode {got}"
+            );
+        }
         let want = eval_func(&program.material, &program.groups, &inputs);
         let got = run(&code, Function::Material, p, &params, 0.7)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -125,11 +148,13 @@ fn agree(name: &str, program: &Program) {
             );
         }
     }
+    rays
 }
 
 #[test]
 fn bytecode_computes_what_the_ir_does_plain_and_culled() {
     let mut culled_skips = 0;
+    let mut rays = 0;
     for (name, src) in scenes() {
         for cull in [false, true] {
             let opts = Options {
@@ -139,7 +164,7 @@ fn bytecode_computes_what_the_ir_does_plain_and_culled() {
             let Ok(c) = sdfc_wgsl::compile(&src, &opts) else {
                 panic!("{name} does not compile");
             };
-            agree(&format!("{name} (cull {cull})"), c.program());
+            rays += agree(&format!("{name} (cull {cull})"), c.program());
             if cull {
                 let code = encode(c.program()).unwrap();
                 culled_skips += code
@@ -150,6 +175,8 @@ fn bytecode_computes_what_the_ir_does_plain_and_culled() {
             }
         }
     }
+    // The ray functions are checked on many scenes (every one with a floor has one).
+    assert!(rays >= 20 * POINTS, "{rays} checks of ray functions");
     // The check covers skipped parts: the grid alone has two levels of them.
     assert!(
         culled_skips >= 16,

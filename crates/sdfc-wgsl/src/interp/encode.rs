@@ -65,6 +65,11 @@ pub struct Bytecode {
     pub consts: Vec<[f32; 4]>,
     /// Instruction range `[start, end)` of the distance function (`ret d`).
     pub distance: [u32; 2],
+    /// Instruction range of the distance the march steps with along a ray
+    /// (`scene_distance_ray`, after the material function; `distance` where the program has
+    /// none, or where the union is read as data, which the specialised shader marches
+    /// without it too).
+    pub distance_ray: [u32; 2],
     /// Instruction range of the material function (`ret albedo, phong`).
     pub material: [u32; 2],
     /// Registers the code uses (at most [`MAX_REGISTERS`]).
@@ -214,6 +219,7 @@ impl Chunk {
 pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let sdfc_ir::SceneFunctions {
         distance,
+        distance_ray,
         material,
         groups,
         ..
@@ -232,13 +238,18 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         best: None,
     };
 
-    let mut chunk = Chunk::new();
-    let d = e.func(&mut chunk, distance, &distance.results, top, 0)?;
-    let d = reg(d[0], "the distance")?;
-    chunk.ins.push(VIns::control(Opcode::Ret, vec![d]));
-    let start = code.len() as u32;
-    registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
-    let distance = [start, code.len() as u32];
+    // A distance function's range; the registers it uses.
+    let distance_code = |e: &mut Encoder, code: &mut Vec<[u32; 4]>, f: &Func| {
+        let mut chunk = Chunk::new();
+        let d = e.func(&mut chunk, f, &f.results, top, 0)?;
+        let d = reg(d[0], "the distance")?;
+        chunk.ins.push(VIns::control(Opcode::Ret, vec![d]));
+        let start = code.len() as u32;
+        let used = allocate(&fold(chunk.ins), code)?;
+        Ok::<_, EncodeError>(([start, code.len() as u32], used))
+    };
+    let (distance, used) = distance_code(&mut e, &mut code, distance)?;
+    registers = registers.max(used);
 
     let mut chunk = Chunk::new();
     let m = e.func(&mut chunk, material, &material.results, top, 0)?;
@@ -256,6 +267,14 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let start = code.len() as u32;
     registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
     let material = [start, code.len() as u32];
+    let distance_ray = match distance_ray {
+        Some(f) => {
+            let (range, used) = distance_code(&mut e, &mut code, f)?;
+            registers = registers.max(used);
+            range
+        }
+        None => distance,
+    };
 
     if code.len() > MAX_INSTRUCTIONS {
         return Err(EncodeError::TooLarge(format!(
@@ -267,6 +286,7 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
         code,
         consts: e.consts,
         distance,
+        distance_ray,
         material,
         registers,
         kinds: 0,
@@ -513,6 +533,7 @@ impl Encoder<'_> {
             Op::Const(k) => self.load_const(&k.to_value()),
             Op::Point => Ok(inputs.point),
             Op::Time => Ok(Val::Load(Opcode::Time, 0)),
+            Op::Ray => Ok(Val::Load(Opcode::Ray, 0)),
             // The caller's best distance (`NO_BEST` outside a culled part).
             Op::Best => match inputs.best {
                 Some(v) => Ok(v),
@@ -1035,10 +1056,12 @@ impl Bytecode {
         }
         let kinds = ("kinds", [0, self.kinds]);
         let functions = [("distance", self.distance), ("material", self.material)];
+        let ray = ("distance_ray", self.distance_ray);
         for (name, [start, end]) in (self.kinds > 0)
             .then_some(kinds)
             .into_iter()
             .chain(functions)
+            .chain((self.distance_ray != self.distance).then_some(ray))
         {
             let _ = writeln!(s, "{name}:");
             for pc in start..end {
@@ -1096,7 +1119,7 @@ impl Bytecode {
 pub(crate) fn arity(op: Opcode) -> usize {
     use Opcode::*;
     match op {
-        Param | Time | Arg => 0,
+        Param | Time | Ray | Arg => 0,
         Ret => 2,
         Neg | Swizzle | Abs | Sign | Floor | Ceil | Fract | Round | Sqrt | Exp | Log | Sin
         | Cos | Tan | Asin | Acos | Atan | Radians | Degrees | Length2 | Length3 | Length4

@@ -120,6 +120,9 @@ pub fn encode_instances(plan: &Plan, materials: &[Material]) -> Result<Bytecode,
         code,
         consts: pool,
         distance,
+        // The instances' march is the plain distance's in the specialised shader too (a plane
+        // alone leaves a union read as data: `instances::plan`).
+        distance_ray: distance,
         material,
         registers,
         kinds,

@@ -19,10 +19,13 @@ use sdfc_ir::value::Value;
 /// node at most once per call).
 const MAX_TRIPS: u64 = 1 << 28;
 
-/// One of the two functions of a program.
+/// One of the functions of a program.
 #[derive(Clone, Copy, Debug)]
 pub enum Function {
     Distance,
+    /// The march's distance along the unit direction given (`scene_distance_ray`; the
+    /// plain distance's code where the program has no ray function).
+    DistanceRay([f32; 3]),
     Material,
 }
 
@@ -39,7 +42,12 @@ pub fn run(
 ) -> Result<[[f32; 4]; 2], String> {
     let [start, end] = match function {
         Function::Distance => code.distance,
+        Function::DistanceRay(_) => code.distance_ray,
         Function::Material => code.material,
+    };
+    let ray = match function {
+        Function::DistanceRay(rd) => [rd[0], rd[1], rd[2], 0.0],
+        _ => [0.0; 4],
     };
     let mut regs = [[0f32; 4]; MAX_REGISTERS as usize];
     regs[0] = [p[0], p[1], p[2], 0.0];
@@ -92,6 +100,7 @@ pub fn run(
                     .get((imm + 2 * a[1] as u32) as usize)
                     .ok_or("a material out of range")?,
             ),
+            Opcode::Ray => Some(ray),
             _ => execute(op, imm, [a, b, c, d], params, time)
                 .ok_or_else(|| format!("{} at {pc}", op.mnemonic()))?,
         };

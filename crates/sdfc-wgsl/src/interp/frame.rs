@@ -210,6 +210,8 @@ pub fn frame_data_with(
     w.u(bounds_at);
     w.u(instances_at);
     w.f(f32_down(program.analysis.feature));
+    w.u(code.distance_ray[0]);
+    w.u(code.distance_ray[1]);
     // The struct's size is a multiple of its alignment (16, its vec3s'): padded, never cut.
     debug_assert!(w.0.len() <= FRAME_BYTES && FRAME_BYTES - w.0.len() < 16);
     w.0.resize(FRAME_BYTES, 0);

@@ -27,6 +27,12 @@
 //! reflection loop with `REFLECTIONS = 0` returns exactly the plain radiance, so one shader
 //! covers every setting.
 //!
+//! The march samples `scene_distance_ray`, as the specialised shader's does where the scene
+//! has one: the bytecode holds that function after the material function (where the scene
+//! has none, `Frame.distance_ray_code` is the distance's range), and `OP_RAY` reads the
+//! ray's direction, so both forms divide by the same slopes along the ray and take the same
+//! steps.
+//!
 //! The interpreter's distance is the dearest there is (the whole bytecode loop), so its march
 //! refines in the stepping loop (`shaders/march_merged.wgsl`): one inlined copy of the
 //! interpreter in the march instead of two. On lavapipe that drew the suite 1.04x (spec
@@ -194,7 +200,7 @@ pub fn emit_variant(unroll: u32, variant: Variant) -> String {
     s += "\n";
     s += &runtime(parts::MARCH_STEP_RELAXED);
     s += "\n";
-    s += &runtime(parts::MARCH_MERGED);
+    s += &runtime(&crate::marcher::along_ray(parts::MARCH_MERGED));
     s += "\n";
     s += &runtime(parts::CAMERA);
     s += "\n";

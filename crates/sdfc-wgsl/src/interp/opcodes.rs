@@ -38,7 +38,8 @@ macro_rules! opcodes {
 opcodes! {
     // Control and inputs.
     Ret = 0, "OP_RET", "ret";
-    // (1 was `const`: constants are operands now, numbered from MAX_REGISTERS.)
+    // The ray's direction in `scene_distance_ray` (the shader's `ray_dir`).
+    Ray = 1, "OP_RAY", "ray";
     Param = 2, "OP_PARAM", "param";
     Time = 3, "OP_TIME", "time";
     // A culled union's early-out: unless a.x < b.x (the part's box is nearer than the best

@@ -34,7 +34,8 @@ struct Frame {
     light_count: u32,
     // Bit 0: `epsilon: pixel`; bit 1: fog; bit 2: the distance is trusted (`distance_trusted()`).
     switches: u32,
-    // Instruction ranges [start, end) of the two functions in `code`.
+    // Instruction ranges [start, end) of the distance and material functions in `code` (the
+    // ray function's is `distance_ray_code`, below).
     distance_code: vec2<u32>,
     material_code: vec2<u32>,
     // Where the lights (two entries each: position or reversed direction with w = 1 for a

@@ -149,14 +149,22 @@ fn beside_a_smooth_blend() {
     );
 }
 
-/// A plane divides by its slope along the ray, `|n| . |u|`: a floor, a tilted plane turned
-/// and mirrored (where the direction's signs are unknown), a scaled one, and one in a smooth
-/// blend, which keeps its distance (the sign check would catch it otherwise).
+/// A plane divides by its slope along the ray, `|n| . |u|`: a floor, a tilted plane
+/// mirrored (where the direction's signs are unknown: `|n . u|` alone would overstep on the
+/// mirrored side), mirrored and then turned, turned and then mirrored (the direction lost),
+/// elongated, scaled, cut from a box and intersected with a sphere (its value negated or
+/// taken where it is the larger), and one in a smooth blend, which keeps its distance (the
+/// sign check would catch it otherwise).
 #[test]
 fn planes() {
-    let src = "scene = sphere(1) | plane([0, 1, 0], -1)
-               | plane([0.6, 0.8, 0], 2).rotate_z(20deg).mirror_x()
+    let src = "scene = sphere(1) | plane([0, 1, 0], -2.5)
+               | plane([0.6, 0.8, 0], 2).mirror_x()
+               | plane([0, 0.8, 0.6], 2.2).mirror_z().rotate_x(30deg)
+               | plane([0.6, 0.8, 0], 2.4).rotate_z(20deg).mirror_x()
+               | elongate(plane([0.6, 0, 0.8], 2.6), [0.5, 0, 0.3])
                | plane([0, 0, 1], 1.5).scale(2).translate([0, 0, -3])
+               | subtract(box(1.2), plane([0.6, 0.8, 0], 0.3)).translate([0, 0, 2.2])
+               | intersect(sphere(1.1), plane([0, -0.6, 0.8], 0.2)).translate([2.2, 0, 0])
                | union(box(0.5), plane([1, 0, 0], -1.5), smooth: 0.3);
 ";
     check("planes", src, [-3.0; 3], [3.0; 3], 40_000);

@@ -418,13 +418,17 @@ fn instances_union_wgsl() {
     );
     assert!(c.wgsl.contains("scene_params = frame.params;"));
     // The other children are marched first, alone (`march_rest`, a plane's and a shell's
-    // cheap distance: refined in a loop of its own), then the listed instances one by one
-    // up to their hit; the tetrahedron normal samples what the march hit.
+    // cheap distance: refined in a loop of its own, the plane's distance along the ray),
+    // then the listed instances one by one up to their hit; the tetrahedron normal samples
+    // what the march hit.
     assert!(c.wgsl.contains("let rest = march_rest(ro, rd, pixel);"));
     assert!(c
         .wgsl
         .contains("ray_start(ro, rd, span.x, best, pixel, 0.0, start);"));
-    assert_eq!(c.wgsl.matches("rest_distance(ro + rd * t)").count(), 2);
+    assert_eq!(
+        c.wgsl.matches("rest_distance_ray(ro + rd * t, rd)").count(),
+        2
+    );
     assert_eq!(
         c.wgsl
             .matches("instance_distance(ro + rd * t, leaf)")

@@ -2,6 +2,7 @@
 //! `AUTO_INSTANCES` or more instances is emitted as data, a smaller one as code, and
 //! the options that ask for code (`Never`, `cull`, `lib`) get code, and so does a crowd.
 
+use sdfc_ir::to_ssa::GROUP_SIZE;
 use sdfc_tests::grid_scene;
 use sdfc_wgsl::{compile, Compiled, Failure, Instances, Options, AUTO_CROWD, AUTO_INSTANCES};
 
@@ -134,42 +135,55 @@ fn by_default_a_crowd_stays_code() {
     assert!(as_data(&compiled(AUTO_INSTANCES, &Options::default())));
 }
 
-/// A grid of 20 with `extra` as more children of its union: fewer than a group function's
-/// children (`GROUP_SIZE`), whose bodies never see the ray's direction.
-fn grid_with(extra: &str) -> String {
-    let src = grid_scene(20);
+/// A grid of `n` with `extra` as more children of its union.
+fn grid_with(n: usize, extra: &str) -> String {
+    let src = grid_scene(n);
     let cut = src.rfind(");").expect("the union's end");
     format!("{}    {extra},\n{}", &src[..cut], &src[cut..])
 }
 
-/// Asked for data, a union with a floor beside the instances stays data: the instances'
-/// march never needed the ray function, and the floor's own march (`march_rest`) keeps its
-/// plain distance. A displacement that divides by its slope along the ray keeps it code (the
+/// A floor beside the instances leaves the union data, and the other children's march
+/// (`march_rest`) steps with the floor's distance along the ray, as the code form's march
+/// does. A displacement that divides by its slope along the ray keeps the union code (the
 /// walk has no ray function); one in a smooth blend, which does not divide, leaves it data,
-/// floor or not.
+/// floor or not. Asked for data, a union of 20 (fewer children than a group function's);
+/// by default one of `AUTO_INSTANCES`, whose code form keeps the floor out of its group
+/// functions, which never see the ray's direction.
 #[test]
 fn a_floor_leaves_the_union_data_and_a_displacement_along_the_ray_does_not() {
-    let opts = Options {
+    let always = Options {
         instances: Instances::Always,
+        ..Options::default()
+    };
+    let never = Options {
+        instances: Instances::Never,
         ..Options::default()
     };
     let floor = "plane([0, 1, 0], -1)";
     let ribs = "displace(sphere(1), |p| sin(30 * p.y) / 16).translate([0, 8, 0])";
     let blended =
         "union(displace(sphere(1), |p| sin(30 * p.y) / 16), box(0.8), smooth: 0.3).translate([0, 8, 0])";
-    for (extra, data) in [
-        (floor.to_string(), true),
-        (ribs.to_string(), false),
-        (format!("{blended}, {floor}"), true),
-        (format!("{ribs}, {floor}"), false),
-    ] {
-        let c = compile(&grid_with(&extra), &opts).unwrap_or_else(|f| panic!("{extra}: {f}"));
-        assert_eq!(as_data(&c), data, "{extra}");
-        // The code form marches with the ray function.
-        assert_eq!(
-            c.wgsl.contains("scene_distance_ray(ro + rd * t, rd)"),
-            !data,
-            "{extra}"
-        );
+    for (n, opts) in [(20, &always), (AUTO_INSTANCES, &Options::default())] {
+        for (extra, data) in [
+            (floor.to_string(), true),
+            (format!("{blended}, {floor}"), true),
+            (format!("{ribs}, {floor}"), n > GROUP_SIZE),
+        ] {
+            let src = grid_with(n, &extra);
+            let c = compile(&src, opts).unwrap_or_else(|f| panic!("{extra}: {f}"));
+            assert_eq!(as_data(&c), data, "{n}: {extra}");
+            let sample = if data {
+                "rest_distance_ray(ro + rd * t, rd)"
+            } else {
+                "scene_distance_ray(ro + rd * t, rd)"
+            };
+            assert!(c.wgsl.contains(sample), "{n}: {extra}: no {sample}");
+            // As code, the floor steps along the ray too.
+            let code = compile(&src, &never).unwrap_or_else(|f| panic!("{extra}: {f}"));
+            assert!(
+                code.wgsl.contains("scene_distance_ray(ro + rd * t, rd)"),
+                "{n}: {extra}: the code form marches plainly"
+            );
+        }
     }
 }

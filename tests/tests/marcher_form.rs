@@ -37,11 +37,15 @@ fn a_union_read_as_data_refines_in_the_stepping_loop() {
     // No refinement loop of its own, so no dead copy of it either.
     assert!(!alone.contains("fn refine("));
     // With a floor beside the instances: the floor marched first, alone, and cheap (a
-    // plane), so with its refinement in a loop of its own; then the instances as above.
+    // plane), so with its refinement in a loop of its own, by its distance along the ray;
+    // then the instances as above.
     let mixed = wgsl_with_floor(AUTO_INSTANCES, "");
     assert!(mixed.contains("scene_data"), "not the data form");
     assert!(mixed.contains("let rest = march_rest(ro, rd, pixel);"));
-    assert_eq!(mixed.matches("rest_distance(ro + rd * t)").count(), 2);
+    assert_eq!(
+        mixed.matches("rest_distance_ray(ro + rd * t, rd)").count(),
+        2
+    );
     assert!(mixed.contains("fn refine("));
     assert_eq!(
         mixed

@@ -715,10 +715,12 @@ mod tests {
 }
 
 /// The code of a mixed union's other children ([`Instances::rest`]): `rest_distance`,
-/// `rest_material` and the groups they call.
+/// `rest_material` and the groups they call, and `rest_distance_ray` where a plane among
+/// them divides by its slope along the ray (`march_rest` steps with it).
 #[derive(Clone, Debug)]
 pub struct Rest {
     pub distance: Func,
+    pub distance_ray: Option<Func>,
     pub material: Func,
     pub groups: Vec<Func>,
 }
@@ -753,6 +755,10 @@ pub fn rest_functions(
     };
     Some(Rest {
         distance: opt(&funcs.distance, "rest_distance"),
+        distance_ray: funcs
+            .distance_ray
+            .as_ref()
+            .map(|f| opt(f, "rest_distance_ray")),
         material: opt(&funcs.material, "rest_material"),
         groups: funcs.groups.iter().map(|g| opt(g, &g.name)).collect(),
     })

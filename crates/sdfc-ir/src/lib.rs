@@ -38,7 +38,7 @@ pub struct Program {
     /// whose slope along a ray is below their isotropic bound (`to_ssa::along_ray`) or planes.
     pub distance_ray: Option<Func>,
     /// Whether a displacement or heightfield divides by its slope along the ray in
-    /// `distance_ray` (the camera-relative one too, built from the same shapes), rather than
+    /// `distance_ray` or the camera-relative one (built from the same shapes), rather than
     /// planes alone: a union read as data is marched without the ray function, which only
     /// planes can do without (sdfc-wgsl's `instances::plan`: `march_rest` reaches them).
     pub distance_ray_slopes: bool,
@@ -225,11 +225,15 @@ pub fn back(front: Front, opts: &IrOptions) -> (Option<Stages>, Vec<Diagnostic>)
     let distance_ray = funcs.distance_ray.as_ref().map(&mut opt);
     let material = opt(&funcs.material);
     let groups: Vec<Func> = funcs.groups.iter().map(&mut opt).collect();
+    // Whether a ray function divides by a slope (the camera-relative one is built from the
+    // same shapes and agrees, but the marched one is what `instances::plan` reads).
+    let mut distance_ray_slopes = funcs.distance_ray_slopes;
     let relative = passes::relative::wanted(&scene).then(|| {
         let origin = scene.camera.position;
         let shifted = passes::relative::shift(&scene, origin);
         let lights = shifted.lights.clone();
         let rel = to_ssa::functions(&passes::merge::run(&shifted), opts.cull);
+        distance_ray_slopes |= rel.distance_ray_slopes;
         Relative {
             origin,
             distance_ray: rel.distance_ray.as_ref().map(&mut opt),
@@ -300,7 +304,7 @@ pub fn back(front: Front, opts: &IrOptions) -> (Option<Stages>, Vec<Diagnostic>)
         scene: merged,
         distance,
         distance_ray,
-        distance_ray_slopes: funcs.distance_ray_slopes,
+        distance_ray_slopes,
         material,
         groups,
         analysis,

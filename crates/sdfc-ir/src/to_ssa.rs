@@ -29,6 +29,11 @@ type Mat = [NodeId; 2];
 /// function, and the groups are where bounding-volume early-outs will go.
 pub const GROUP_SIZE: usize = 32;
 
+/// A large union's unbounded children (floors) stay out of its group functions where there
+/// are at most this many of them: each is built in the union's own function, where it can
+/// take its distance along the ray.
+const FREE_OF_GROUPS: usize = 4;
+
 /// A shape whose unfolded tree has at least this many nodes gets a function of its own (a
 /// group function of one child), called wherever the shape is used. A `let` shape used at many
 /// places is then emitted once instead of once per use, and no function grows with the scene:
@@ -597,7 +602,9 @@ impl<'s> Builder<'s> {
     /// it is one step. Where values matter (below a smooth blend and the rest, see
     /// `isotropic`) the plane keeps its distance.
     fn plane_along_ray(&mut self, d: NodeId, n: NodeId) -> NodeId {
-        let Some(u) = self.dir.filter(|_| !self.values_matter) else {
+        // Where values matter there is no direction (`isotropic`, group functions).
+        debug_assert!(self.dir.is_none() || !self.values_matter);
+        let Some(u) = self.dir else {
             return d;
         };
         let n = self.g.builtin(Builtin::Abs, &[n]);
@@ -769,15 +776,34 @@ impl<'s> Builder<'s> {
         }
         let parts: Vec<(NodeId, Option<Mat>)> =
             if op == CombineOp::Union && smooth.is_none() && children.len() > GROUP_SIZE {
+                // A few unbounded children (a floor) stay out of the groups, first: a group
+                // function never sees the ray's direction, and a floor's distance along the
+                // ray (`plane_along_ray`) is what its grazing rays need, as the culled
+                // union's and a union read as data's other children have it.
+                let (free, bounded): (Vec<ShapeId>, Vec<ShapeId>) =
+                    children.iter().partition(|c| {
+                        self.analysis
+                            .nodes
+                            .get(c.index())
+                            .is_some_and(|i| !i.bounds.is_bounded())
+                    });
+                let (free, grouped) = if free.len() <= FREE_OF_GROUPS && !bounded.is_empty() {
+                    (free, bounded)
+                } else {
+                    (Vec::new(), children.to_vec())
+                };
                 // Balanced groups of at most GROUP_SIZE children each, and at most
                 // GROUP_SIZE groups: a larger union becomes a tree of groups (each group
                 // splits its own children again), so no function grows with the scene.
-                let n = children.len().div_ceil(GROUP_SIZE).min(GROUP_SIZE);
-                let per = children.len().div_ceil(n);
-                children
-                    .chunks(per)
-                    .map(|c| self.group(c, p, mat))
-                    .collect()
+                let n = grouped.len().div_ceil(GROUP_SIZE).min(GROUP_SIZE);
+                let per = grouped.len().div_ceil(n);
+                let mut parts: Vec<(NodeId, Option<Mat>)> =
+                    free.iter().map(|c| self.shape(*c, p, mat)).collect();
+                for c in grouped.chunks(per) {
+                    let part = self.group(c, p, mat);
+                    parts.push(part);
+                }
+                parts
             } else {
                 children.iter().map(|c| self.shape(*c, p, mat)).collect()
             };
@@ -921,7 +947,11 @@ impl<'s> Builder<'s> {
         // distance nor a bound) jumps where a cell meets the next: its value bounds the
         // distance to its own cell's copy only, and a step along the ray larger than that
         // value, which may be many times larger on a grazing ray, would pass the others'.
-        if self.analysis.nodes[s.index()].exactness == Exactness::Neither {
+        let repeats = matches!(
+            map,
+            PointMap::Repeat { .. } | PointMap::RepeatLimited { .. }
+        );
+        if repeats && self.analysis.nodes[s.index()].exactness == Exactness::Neither {
             self.dir = None;
         }
         let mut cells: Option<Cells> = None;

@@ -78,9 +78,10 @@ pub fn crowded(p: &Program) -> bool {
 }
 
 /// The plan for `p`'s interpreted form (`interp::encode::encode_instances`), or `None` where
-/// its root is not a union of instances. The interpreter marches with `scene_distance` and
-/// difference normals only (analytic normals fall back to the tetrahedron there), so only
-/// the union decides.
+/// its root is not a union of instances. The interpreter takes difference normals only
+/// (analytic normals fall back to the tetrahedron there), and a union of instances alone has
+/// no ray function (no plane, no displacement beside the instances), so only the union
+/// decides.
 pub fn plan_interpreted(p: &Program) -> Option<Plan> {
     let frame = p.marched();
     // The program's own analysis of its scene: the instances' boxes, the kinds' functions.

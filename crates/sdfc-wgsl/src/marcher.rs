@@ -31,9 +31,8 @@ pub struct View<'a> {
     pub ray_lists: bool,
     /// Where the union read as data has other children (a floor, a fractal): those are
     /// marched first, on their own (`march_rest`), and their hit bounds the instances'
-    /// lists and marches. `Some(dear)`: whether their distance is dear, which picks their
-    /// march's loops as [`View::dear`] picks the scene's.
-    pub rest: Option<bool>,
+    /// lists and marches.
+    pub rest: Option<RestMarch>,
     /// For a union read as data, the least factor by which an instance's distance outside
     /// its box is at least the distance to it (`Instances::outside_factor`): shadow rays'
     /// lists pad their boxes by it (`crate::shadows`).
@@ -57,6 +56,17 @@ pub struct View<'a> {
     /// The size of the scene's smallest shape (`Analysis::feature`), below which the
     /// difference normals' step does not go (`FEATURE_SIZE`).
     pub feature: f64,
+}
+
+/// How a mixed union's other children are marched (`march_rest`).
+#[derive(Clone, Copy, Debug)]
+pub struct RestMarch {
+    /// Whether their distance is dear, which picks their march's loops as [`View::dear`]
+    /// picks the scene's.
+    pub dear: bool,
+    /// Whether they have `rest_distance_ray` (a plane's distance along the ray), which their
+    /// march then samples, as [`View::along_ray`] has the scene's sample `scene_distance_ray`.
+    pub along_ray: bool,
 }
 
 impl View<'_> {
@@ -119,8 +129,8 @@ pub fn emit(scene: &Scene, view: &View) -> String {
         // the data is dear beside the loop's bookkeeping.
         match view.rest {
             None => s += parts::MARCH_INSTANCES,
-            Some(dear) => {
-                s += &march_rest(dear);
+            Some(rest) => {
+                s += &march_rest(rest);
                 s += &parts::MARCH_INSTANCES.replacen(MARCH_ALONE_HEAD, MARCH_REST_HEAD, 1);
             }
         }
@@ -194,12 +204,18 @@ const MARCH_REST_HEAD: &str =
     var steps = rest.steps;
 ";
 
-/// The march of a mixed union's other children alone (`rest_distance`), over the same span:
-/// the scene's own march (and refinement), merged where their distance is `dear`.
-fn march_rest(dear: bool) -> String {
-    let rest = |part: &str| part.replace(RAY_SAMPLE, "rest_distance(ro + rd * t)");
+/// The march of a mixed union's other children alone (`rest_distance`, or
+/// `rest_distance_ray` along the ray), over the same span: the scene's own march (and
+/// refinement), merged where their distance is dear.
+fn march_rest(how: RestMarch) -> String {
+    let sample = if how.along_ray {
+        "rest_distance_ray(ro + rd * t, rd)"
+    } else {
+        "rest_distance(ro + rd * t)"
+    };
+    let rest = |part: &str| part.replace(RAY_SAMPLE, sample);
     let mut s = String::new();
-    if dear {
+    if how.dear {
         s += &rest(parts::MARCH_MERGED).replacen("fn march(", "fn march_rest(", 1);
     } else {
         s += &rest(parts::REFINE);
@@ -661,8 +677,9 @@ fn finish(scene: &Scene) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        analytic_surface_normal, end_leaf, main_blocks, march_rest, normal_listed, sampled, Slab,
-        View, MAIN_FRAME, MAIN_RAY, MARCH_ALONE_HEAD, RAY_SAMPLE, TETRAHEDRON_LOOP,
+        analytic_surface_normal, end_leaf, main_blocks, march_rest, normal_listed, sampled,
+        RestMarch, Slab, View, MAIN_FRAME, MAIN_RAY, MARCH_ALONE_HEAD, RAY_SAMPLE,
+        TETRAHEDRON_LOOP,
     };
     use crate::parts;
     use sdfc_ir::scene::Normals;
@@ -728,17 +745,20 @@ mod tests {
     fn a_mixed_union_marches_its_other_children_first() {
         assert_eq!(parts::MARCH_INSTANCES.matches(MARCH_ALONE_HEAD).count(), 1);
         for dear in [true, false] {
-            let rest = march_rest(dear);
-            assert_eq!(rest.matches("fn march_rest(").count(), 1);
-            assert!(!rest.contains("fn march("));
-            assert!(!rest.contains(RAY_SAMPLE));
-            assert_eq!(rest.contains("fn refine("), !dear);
-            let samples = if dear { 1 } else { 2 };
-            assert_eq!(
-                rest.matches("rest_distance(ro + rd * t)").count(),
-                samples,
-                "{rest}"
-            );
+            for along_ray in [true, false] {
+                let rest = march_rest(RestMarch { dear, along_ray });
+                assert_eq!(rest.matches("fn march_rest(").count(), 1);
+                assert!(!rest.contains("fn march("));
+                assert!(!rest.contains(RAY_SAMPLE));
+                assert_eq!(rest.contains("fn refine("), !dear);
+                let samples = if dear { 1 } else { 2 };
+                let sample = if along_ray {
+                    "rest_distance_ray(ro + rd * t, rd)"
+                } else {
+                    "rest_distance(ro + rd * t)"
+                };
+                assert_eq!(rest.matches(sample).count(), samples, "{rest}");
+            }
         }
     }
 

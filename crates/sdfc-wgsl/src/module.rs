@@ -35,7 +35,12 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
     let rest = instances.and_then(|plan| plan.rest.as_ref());
     let rest_funcs: Vec<&Func> = rest
         .iter()
-        .flat_map(|r| [&r.distance, &r.material].into_iter().chain(&r.groups))
+        .flat_map(|r| {
+            [&r.distance, &r.material]
+                .into_iter()
+                .chain(&r.distance_ray)
+                .chain(&r.groups)
+        })
         .collect();
     let funcs: Vec<&Func> = match instances {
         Some(plan) => plan.templates.iter().chain(rest_funcs.clone()).collect(),
@@ -170,6 +175,15 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             groups,
             "The distance from p to the union's children that are not instances (beside the walk).",
         );
+        if let Some(f) = &r.distance_ray {
+            push_func(
+                &mut s,
+                &consts,
+                f,
+                groups,
+                "The distance the march of the union's children that are not instances steps with along rd.",
+            );
+        }
         push_func(
             &mut s,
             &consts,
@@ -238,7 +252,13 @@ pub fn emit(p: &Program, lib: bool, instances: Option<&Plan>) -> String {
             bounds,
             shadow: marcher::shadow_slabs(bounds, frame.origin, data_root),
             ray_lists: instances.is_some(),
-            rest: rest.map(|r| crate::dear::is_dear(&r.distance, &r.groups)),
+            rest: rest.map(|r| {
+                let along = r.distance_ray.as_ref();
+                marcher::RestMarch {
+                    dear: crate::dear::is_dear(along.unwrap_or(&r.distance), &r.groups),
+                    along_ray: along.is_some(),
+                }
+            }),
             instances_outside: instances.map_or(0.0, |plan| plan.found.outside_factor()),
             instances_spacing: instances.and_then(|plan| plan.found.spacing()),
             trusted: p.analysis.distance_trusted(&p.scene),

@@ -267,11 +267,21 @@ pub fn encode(program: &Program) -> Result<Bytecode, EncodeError> {
     let start = code.len() as u32;
     registers = registers.max(allocate(&fold(chunk.ins), &mut code)?);
     let material = [start, code.len() as u32];
-    let distance_ray = match distance_ray {
-        Some(f) => {
-            let (range, used) = distance_code(&mut e, &mut code, f)?;
+    // The march's ray function repeats the distance's code (its groups inlined again): where
+    // that would pass the limits, the march takes the distance instead, as it did before
+    // planes and displacements divided by their slopes, rather than the scene failing.
+    let (at, pooled) = (code.len(), e.consts.len());
+    let distance_ray = match distance_ray.map(|f| distance_code(&mut e, &mut code, f)) {
+        Some(Ok((range, used))) if code.len() <= MAX_INSTRUCTIONS => {
             registers = registers.max(used);
             range
+        }
+        Some(Err(EncodeError::Unsupported(s))) => return Err(EncodeError::Unsupported(s)),
+        Some(_) => {
+            code.truncate(at);
+            e.consts.truncate(pooled);
+            e.const_index.retain(|_, i| (*i as usize) < pooled);
+            distance
         }
         None => distance,
     };

@@ -31,7 +31,9 @@
 //! has one: the bytecode holds that function after the material function (where the scene
 //! has none, `Frame.distance_ray_code` is the distance's range), and `OP_RAY` reads the
 //! ray's direction, so both forms divide by the same slopes along the ray and take the same
-//! steps.
+//! steps (a union the specialised shader reads as data marches its other children with their
+//! own ray function, `rest_distance_ray`). Where the ray function would pass the encoder's
+//! limits the march takes the distance instead.
 //!
 //! The interpreter's distance is the dearest there is (the whole bytecode loop), so its march
 //! refines in the stepping loop (`shaders/march_merged.wgsl`): one inlined copy of the

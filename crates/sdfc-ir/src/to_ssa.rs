@@ -781,12 +781,7 @@ impl<'s> Builder<'s> {
                 // ray (`plane_along_ray`) is what its grazing rays need, as the culled
                 // union's and a union read as data's other children have it.
                 let (free, bounded): (Vec<ShapeId>, Vec<ShapeId>) =
-                    children.iter().partition(|c| {
-                        self.analysis
-                            .nodes
-                            .get(c.index())
-                            .is_some_and(|i| !i.bounds.is_bounded())
-                    });
+                    children.iter().partition(|c| self.bounded(**c).is_none());
                 let (free, grouped) = if free.len() <= FREE_OF_GROUPS && !bounded.is_empty() {
                     (free, bounded)
                 } else {

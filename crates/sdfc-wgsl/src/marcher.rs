@@ -90,18 +90,25 @@ const RAY_SAMPLE: &str = "scene_distance(ro + rd * t)";
 /// A marcher part with its samples along the ray taken as `view` asks: through
 /// `scene_distance_ray` where the scene has it, else as written.
 fn sampled(part: &str, view: &View) -> String {
-    if view.along_ray {
-        along_ray(part)
-    } else {
-        part.to_string()
-    }
+    sampled_by(part, "scene_distance", view.along_ray)
 }
 
 /// A marcher part with its samples along the ray taken through `scene_distance_ray` (the
 /// interpreter's always are: its ray function is the plain distance's code where the scene
 /// has none).
 pub(crate) fn along_ray(part: &str) -> String {
-    part.replace(RAY_SAMPLE, "scene_distance_ray(ro + rd * t, rd)")
+    sampled_by(part, "scene_distance", true)
+}
+
+/// A marcher part with its samples along the ray taken by the distance function `name`, or
+/// by its ray function (`{name}_ray`, which takes the direction too) where `along_ray`.
+fn sampled_by(part: &str, name: &str, along_ray: bool) -> String {
+    let sample = if along_ray {
+        format!("{name}_ray(ro + rd * t, rd)")
+    } else {
+        format!("{name}(ro + rd * t)")
+    };
+    part.replace(RAY_SAMPLE, &sample)
 }
 
 pub fn emit(scene: &Scene, view: &View) -> String {
@@ -208,12 +215,7 @@ const MARCH_REST_HEAD: &str =
 /// `rest_distance_ray` along the ray), over the same span: the scene's own march (and
 /// refinement), merged where their distance is dear.
 fn march_rest(how: RestMarch) -> String {
-    let sample = if how.along_ray {
-        "rest_distance_ray(ro + rd * t, rd)"
-    } else {
-        "rest_distance(ro + rd * t)"
-    };
-    let rest = |part: &str| part.replace(RAY_SAMPLE, sample);
+    let rest = |part: &str| sampled_by(part, "rest_distance", how.along_ray);
     let mut s = String::new();
     if how.dear {
         s += &rest(parts::MARCH_MERGED).replacen("fn march(", "fn march_rest(", 1);

@@ -44,6 +44,12 @@ pub const LEAF_MIN: usize = 4;
 pub const CULL_LEAF: usize = 8;
 
 impl Builder<'_> {
+    /// The box of shape `c` where the analysis bounds it on every axis (else a floor, say).
+    pub(super) fn bounded(&self, c: ShapeId) -> Option<Aabb> {
+        let b = self.analysis.nodes.get(c.index())?.bounds;
+        b.is_bounded().then_some(b)
+    }
+
     /// The culled form of `union(children)` at `p`, or `None` where culling does not apply
     /// (too few bounded children).
     pub(super) fn culled_union(
@@ -60,9 +66,9 @@ impl Builder<'_> {
             let mut b = Vec::new();
             let mut f = Vec::new();
             for &c in children {
-                match self.analysis.nodes.get(c.index()).map(|i| i.bounds) {
-                    Some(bx) if bx.is_bounded() => b.push((c, bx)),
-                    _ => f.push(c),
+                match self.bounded(c) {
+                    Some(bx) => b.push((c, bx)),
+                    None => f.push(c),
                 }
             }
             (b, f)

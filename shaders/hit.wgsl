@@ -23,11 +23,11 @@ fn march_threshold(t: f32, pixel: f32) -> f32 {
 // Whether a march has spent its samples: MAX_STEPS of its own, and MAX_STEPS more in
 // refinements that end in a pass by. Both are checked only between refinements, so a march
 // takes at most 2 MAX_STEPS + 19 samples (the refinement that ends it, in a hit or a pass,
-// takes up to 20). A ray that grazes a surface whose distance is a bound divided by a Lipschitz
-// factor (displacement, twist) comes within the threshold again and again, and each time up
-// to 20 samples of a refinement crawl on as the march would: counted with the march's, they
-// ended such rays at 256, specks along the ribbed blob's silhouette of
-// examples/spec_section10.sdf at 512x512 (docs/accuracy.md, "Grazing rays along a ribbed
+// takes up to REFINE_SAMPLES, 20). A ray that grazes a surface whose distance is a bound
+// divided by a Lipschitz factor (displacement, twist) comes within the threshold again and
+// again, and each time up to 20 samples of a refinement crawl on as the march would: counted
+// with the march's, they ended such rays at 256, specks along the ribbed blob's silhouette
+// of examples/spec_section10.sdf at 512x512 (docs/accuracy.md, "Grazing rays along a ribbed
 // silhouette").
 fn march_spent(steps: u32, passed: u32) -> bool {
     return steps - passed >= MAX_STEPS || passed >= MAX_STEPS;
@@ -82,6 +82,25 @@ fn touch_distance(t: f32, eps: f32) -> f32 {
 // sphere's silhouette, every secant step lands short of it with such a gap, and refusing them
 // left depth errors of 2e-3 there.
 //
+// A secant step kept (its sample near the surface, within a tenth of the distance it started
+// from) is still a bet on the gap it left: on the terrain's fbm, or along a row of shapes, the
+// field can cross zero in the gap and come back, and the step land near another crossing
+// behind it by chance, which the bracket then converges to (examples/terrain.sdf at 128x96,
+// pixel (112, 21): from 24.02 a step of 4.3 landed at 28.30 with d = -9e-4, and the hit at
+// 28.18 hid the terrain at 24.25). So GAP_PROBES samples, evenly spaced in the gap, check it
+// first: one that lies more than a tenth of the start's distance below the chord from the
+// start's sample to the landing's means the field dips where the step did not look, and the
+// step is refused as above; so is a probe behind the surface. A straight field lies on its
+// chords. A convex shape's lies below them, but by at most a quarter of the landing's distance
+// (a secant of a convex field lands short, its distance at least four times the chord's
+// largest dip), within the tenth allowed, so silhouettes keep their steps. A kept step costs
+// up to three samples more; they count against the refinement's REFINE_SAMPLES, and none are
+// taken when too few are left (a landing that leaves exactly three ends the refinement at it,
+// unbracketed further), so a refinement still takes at most REFINE_SAMPLES. The hazard is made
+// rarer, not ruled out: only sphere tracing the gap would prove it empty. At 256x192 against
+// the f64 reference the terrain's pixels whose depth is off by more than 1e-3 went from 75 to
+// 23 (docs/accuracy.md).
+//
 // Out of iterations without a crossing, marching goes on from the last sample, unless the ray
 // came within a hundredth of the threshold `eps`: that still hits, as before, at the sample
 // nearest the surface. In the crevice where two surfaces touch, or where the distance's
@@ -94,6 +113,10 @@ fn touch_distance(t: f32, eps: f32) -> f32 {
 const REFINE_SAMPLE: u32 = 0u;
 const REFINE_HIT: u32 = 1u;
 const REFINE_PASS: u32 = 2u;
+// The most samples a refinement takes, probes included.
+const REFINE_SAMPLES: u32 = 20u;
+// The samples that check a kept secant step's gap (`gap_probe`).
+const GAP_PROBES: u32 = 3u;
 
 // A refinement under way (`refine` in `shaders/refine.wgsl`, or the march's own loop in
 // `shaders/march_merged.wgsl`): the newest sample (t, d), the one before it (tp, dp) and the
@@ -108,7 +131,8 @@ const REFINE_PASS: u32 = 2u;
 // leaves a gap is a bet that the samples close in on a surface; if they pass one by
 // instead, the gap is unexplored, and marching goes on from its start: a secant from a
 // sample near one shape to one near another skipped a shape between them whole (a hole in
-// the 300-shape grid from close by, docs/performance.md).
+// the 300-shape grid from close by, docs/performance.md). While the gap of a kept step is
+// probed, `probing` counts the probes left, `tl` is the landing's t and d its distance.
 struct Refining {
     t: f32,
     d: f32,
@@ -130,17 +154,22 @@ struct Refining {
     cap: f32,
     i: u32,
     secant_step: bool,
+    probing: u32,
+    tl: f32,
 }
 
 // The refinement of a sample within the threshold eps, distance d0 at t0.
 fn refine_start(t0: f32, d0: f32, eps: f32) -> Refining {
     return Refining(t0, d0, t0, d0, t0, d0, t0, d0, t0, d0, d0 <= 0.0, 0, eps, t0 + d0, 3.0e38,
-        d0, t0, 256.0, 0u, false);
+        d0, t0, 256.0, 0u, false, 0u, t0);
 }
 
 // The refinement's next move from its newest sample: the end (a hit or a pass by, at r.t),
 // or the next sample's t in r.t.
 fn refine_next(r: ptr<function, Refining>) -> u32 {
+    if (*r).probing > 0u {
+        return REFINE_SAMPLE;
+    }
     let t = (*r).t;
     let d = (*r).d;
     if (*r).i == 0u && d <= 0.0 && t <= 0.0 {
@@ -148,7 +177,7 @@ fn refine_next(r: ptr<function, Refining>) -> u32 {
         (*r).t = 0.0;
         return REFINE_HIT;
     }
-    if (*r).i >= 20u {
+    if (*r).i >= REFINE_SAMPLES {
         if !(*r).bracketed && (*r).dmin > 0.01 * (*r).eps {
             // Out of iterations in front of the surface, never within a hundredth of the
             // threshold: no crossing found yet, so marching goes on.
@@ -206,14 +235,50 @@ fn refine_next(r: ptr<function, Refining>) -> u32 {
     return REFINE_SAMPLE;
 }
 
-// The refinement's state after its sample d at r.t.
-fn refine_sampled(r: ptr<function, Refining>, d: f32) {
-    let t = (*r).t;
+// Where the next probe of a kept secant step's gap is taken: GAP_PROBES of them, evenly
+// spaced from the end of the unbounding sphere of (tp, dp) to the start of the landing's.
+fn gap_probe(r: ptr<function, Refining>) -> f32 {
+    let start = (*r).tp + (*r).dp;
+    let k = f32(GAP_PROBES + 1u - (*r).probing) / f32(GAP_PROBES + 1u);
+    return start + k * ((*r).tl - abs((*r).d) - start);
+}
+
+// The refinement's state after its sample at r.t.
+fn refine_sampled(r: ptr<function, Refining>, sample: f32) {
+    var t = (*r).t;
+    var d = sample;
     let tp = (*r).tp;
     let dp = (*r).dp;
     (*r).i = (*r).i + 1u;
-    let leaves_gap = (*r).secant_step && t - abs(d) > tp + dp + (*r).eps;
-    if leaves_gap && abs(d) > 0.1 * dp {
+    var leaves_gap = true;
+    var refused = false;
+    if (*r).probing > 0u {
+        // A probe of a kept secant step's gap: behind the surface, or more than a tenth of
+        // dp below the chord from (tp, dp) to the landing (tl, its distance kept in d), the
+        // field dips where the step did not look, and the step is refused.
+        (*r).probing = (*r).probing - 1u;
+        refused = d <= 0.0 || (d - dp + 0.1 * dp) * ((*r).tl - tp) < ((*r).d - dp) * (t - tp);
+        if !refused && (*r).probing > 0u {
+            (*r).t = gap_probe(r);
+            return;
+        }
+        (*r).probing = 0u;
+        t = (*r).tl;
+        d = (*r).d;
+        (*r).t = t;
+    } else {
+        leaves_gap = (*r).secant_step && t - abs(d) > tp + dp + (*r).eps;
+        refused = leaves_gap && abs(d) > 0.1 * dp;
+        if leaves_gap && !refused && (*r).i + GAP_PROBES <= REFINE_SAMPLES {
+            // A kept secant step: its gap is probed first (where the samples left allow).
+            (*r).probing = GAP_PROBES;
+            (*r).tl = t;
+            (*r).d = d;
+            (*r).t = gap_probe(r);
+            return;
+        }
+    }
+    if refused {
         // A refused secant step: back to the sample before it, and a quarter of the length.
         (*r).cap = 0.25 * (t - tp) / dp;
         (*r).t = tp;

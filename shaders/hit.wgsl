@@ -95,18 +95,22 @@ fn touch_distance(t: f32, eps: f32) -> f32 {
 // (a secant of a convex field lands short, its distance at least four times the chord's
 // largest dip), within the tenth allowed, so silhouettes keep their steps. A kept step costs
 // up to three samples more; they count against the refinement's REFINE_SAMPLES, and none are
-// taken when too few are left (a landing that leaves exactly three ends the refinement at it,
-// unbracketed further), so a refinement still takes at most REFINE_SAMPLES. The hazard is made
+// taken when too few are left (a landing that leaves exactly three ends the refinement: at
+// false position in the bracket from the step's start if the landing is behind the surface),
+// so a refinement still takes at most REFINE_SAMPLES. The hazard is made
 // rarer, not ruled out: only sphere tracing the gap would prove it empty. At 256x192 against
 // the f64 reference the terrain's pixels whose depth is off by more than 1e-3 went from 75 to
 // 23 (docs/accuracy.md).
 //
-// Out of iterations without a crossing, marching goes on from the last sample, unless the ray
-// came within a hundredth of the threshold `eps`: that still hits, as before, at the sample
-// nearest the surface. In the crevice where two surfaces touch, or where the distance's
-// rounding noise is as large as the threshold, passing by would crawl on in tiny steps until
-// the step budget runs out. A pass told by the samples' rise after their minimum is decided
-// by `touch_distance` instead (finer for a trusted distance).
+// Out of iterations (REFINE_SAMPLES) with a crossing bracketed, the hit is where false
+// position puts it in the bracket (`bracket_position`). Without a crossing, marching goes on
+// from the last sample, unless the ray came within a hundredth of the threshold `eps` and
+// its newest sample did not rise from the one before: that still hits, as before, at the
+// sample nearest the surface. In the crevice where two surfaces touch, or where the
+// distance's rounding noise is as large as the threshold, passing by would crawl on in tiny
+// steps until the step budget runs out. A pass told by the samples' rise after their minimum
+// is decided by `touch_distance` instead (finer for a trusted distance), whether samples are
+// left or not.
 //
 // What `refine_next` asks for: a sample at the state's t, or the end of the refinement, a hit
 // at t or a pass by (marching goes on from t).
@@ -177,6 +181,15 @@ fn refine_next(r: ptr<function, Refining>) -> u32 {
         (*r).t = 0.0;
         return REFINE_HIT;
     }
+    // Converged: d below 1e-7 of max(t, 1), and (from the second sample on) t within 1e-6 of
+    // t of the surface by the slope of the last two samples: at a grazing angle a distance of
+    // 1e-7 t still left t off by 3.5e-6 t, and near the camera (tiny_huge, t = 0.03) a
+    // distance of 1e-7 left it off by 4e-5 t. Before the end of the samples, so that a last
+    // sample that converged is the hit.
+    let near = abs(d) <= 1e-7 * max(t, 1.0);
+    if near && ((*r).i == 0u || abs(d * (t - (*r).tp)) <= 1e-6 * t * abs(d - (*r).dp)) {
+        return REFINE_HIT;
+    }
     if (*r).i >= REFINE_SAMPLES {
         // The pass by that a sample left would decide (below): the newest sample rose from
         // the one before it, and the nearest was not touching.
@@ -191,23 +204,17 @@ fn refine_next(r: ptr<function, Refining>) -> u32 {
         }
         // Bracketed: the crossing, where false position puts it in the bracket (the newest
         // sample is one of its ends, and where probes or refused steps spent the samples the
-        // bracket can still be wide: 0.01 at t = 5.4 on examples/terrain.sdf, 256x192).
-        // Touching without a crossing: the sample nearest the surface (the last one could be
-        // further on, where the ray has left the surface: 0.24 from a sphere passed by 5e-4,
-        // tests/passing_by.rs).
+        // bracket can still be 0.01 wide: t = 5.4 on examples/terrain.sdf, 256x192), kept
+        // inside it (rounding can put it just below ta; NaN, from a flushed db - da, only
+        // where db = 0, at tb). Touching without a crossing: the sample nearest the surface
+        // (the last one could be further on, where the ray has left the surface: 0.24 from a
+        // sphere passed by 5e-4, tests/passing_by.rs).
         (*r).t = select(t, (*r).tmin, !(*r).bracketed);
         if (*r).bracketed && (*r).da > 0.0 && (*r).tb > (*r).ta {
             let inside = bracket_position(r);
-            (*r).t = select((*r).tb, inside, inside >= (*r).ta && inside <= (*r).tb);
+            let clamped = select((*r).tb, (*r).ta, inside < (*r).ta);
+            (*r).t = select(clamped, inside, inside >= (*r).ta && inside <= (*r).tb);
         }
-        return REFINE_HIT;
-    }
-    // Converged: d below 1e-7 of max(t, 1), and (from the second sample on) t within 1e-6 of
-    // t of the surface by the slope of the last two samples: at a grazing angle a distance of
-    // 1e-7 t still left t off by 3.5e-6 t, and near the camera (tiny_huge, t = 0.03) a
-    // distance of 1e-7 left it off by 4e-5 t.
-    let near = abs(d) <= 1e-7 * max(t, 1.0);
-    if near && ((*r).i == 0u || abs(d * (t - (*r).tp)) <= 1e-6 * t * abs(d - (*r).dp)) {
         return REFINE_HIT;
     }
     var next = t + d;
@@ -247,7 +254,8 @@ fn refine_next(r: ptr<function, Refining>) -> u32 {
     return REFINE_SAMPLE;
 }
 
-// False position in the bracket (ta, da > 0) to (tb, db <= 0), with Illinois' halved ends.
+// False position in the bracket (ta, da > 0) to (tb, db <= 0), with Illinois' halved ends:
+// the next sample inside a bracket, and the hit of a refinement out of samples.
 fn bracket_position(r: ptr<function, Refining>) -> f32 {
     return (*r).tb - (*r).db * ((*r).tb - (*r).ta) / ((*r).db - (*r).da);
 }

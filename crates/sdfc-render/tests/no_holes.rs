@@ -191,8 +191,8 @@ fn terrain() {
 // off by more than 1e-3) while a kept secant step's gap went unchecked: the step landed near
 // another crossing of the fbm behind the one the ray meets, and the bracket converged there.
 // With its gap probed first (`gap_probe`), 2.3e-4 (23 pixels), and 61 pixels above 1e-4:
-// refinements that spent their samples bracketed ended at the bracket's newest end, up to
-// 0.01 from the surface at t = 5.4. Ended at false position in the bracket instead, 6.5e-5
+// refinements that spent their samples bracketed ended at the bracket's newest end, in
+// brackets up to 0.01 wide at t = 5.4. Ended at false position in the bracket instead, 6.5e-5
 // (36 pixels above 1e-4, 0.087% of the hits) on lavapipe.
 fn terrain_at_256x192() {
     let Some(m) = check_metrics(
@@ -225,6 +225,10 @@ fn terrain_pass_seen_by_the_last_refinement_sample() {
     let Compared {
         frame, reference, ..
     } = render_against_reference(r, "examples/terrain.sdf", &compiled, w, 96);
+    assert!(
+        reference.pixel(x, y).hit,
+        "the reference misses pixel ({x}, {y})"
+    );
     let depth = f64::from(frame.aovs.as_ref().expect("AOVs").depth[(y * w + x) as usize]);
     let want = reference.pixel(x, y).depth;
     assert!(

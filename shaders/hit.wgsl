@@ -97,10 +97,10 @@ fn touch_distance(t: f32, eps: f32) -> f32 {
 // up to three samples more; they count against the refinement's REFINE_SAMPLES, and none are
 // taken when too few are left (a landing that leaves exactly three ends the refinement: at
 // false position in the bracket from the step's start if the landing is behind the surface),
-// so a refinement still takes at most REFINE_SAMPLES. The hazard is made
-// rarer, not ruled out: only sphere tracing the gap would prove it empty. At 256x192 against
-// the f64 reference the terrain's pixels whose depth is off by more than 1e-3 went from 75 to
-// 23 (docs/accuracy.md).
+// so a refinement still takes at most REFINE_SAMPLES. The hazard is made rarer, not ruled
+// out: only sphere tracing the gap would prove it empty. At 256x192 against the f64
+// reference the terrain's pixels whose depth is off by more than 1e-3 went from 75 to 23
+// (docs/accuracy.md).
 //
 // Out of iterations (REFINE_SAMPLES) with a crossing bracketed, the hit is where false
 // position puts it in the bracket (`bracket_position`). Without a crossing, marching goes on

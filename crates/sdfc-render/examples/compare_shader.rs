@@ -268,10 +268,13 @@ fn against_reference(
         // The depth bar (docs/accuracy.md) is 1e-4 relative on 99.9% of the hit pixels: how
         // many pixels are above it, and above 1e-3, of those both hit.
         let a = f.aovs.as_ref().expect("AOVs");
+        // Whether a depth both hit is off the reference's by more than `tol` relative.
+        let off_by = |r: &sdfc_reference::Pixel, d: f32, tol: f64| {
+            (f64::from(d) - r.depth).abs() > tol * r.depth.abs()
+        };
         let above = |tol: f64| {
             (reference.pixels.iter().zip(&a.depth))
-                .filter(|(r, d)| r.hit && d.is_finite())
-                .filter(|(r, &d)| (f64::from(d) - r.depth).abs() > tol * r.depth.abs())
+                .filter(|&(r, &d)| r.hit && d.is_finite() && off_by(r, d, tol))
                 .count()
         };
         let bar = above(1e-4);
@@ -289,7 +292,7 @@ fn against_reference(
                 .unwrap_or(1e-3);
             for (i, (r, &d)) in reference.pixels.iter().zip(&a.depth).enumerate() {
                 let off = if r.hit && d.is_finite() {
-                    (f64::from(d) - r.depth).abs() > tol * r.depth.abs()
+                    off_by(r, d, tol)
                 } else {
                     r.hit != d.is_finite()
                 };

@@ -7,23 +7,24 @@
 //! in the scene keep full steps. Declared `lipschitz:` bounds are checked by sampling.
 
 pub mod bounds;
+mod declared;
 mod explain;
 pub mod gradient;
+mod lipschitz;
+mod maps;
 pub mod sample;
 pub mod symmetry;
 
 use crate::graph::NodeId;
 use crate::hash::FxHashMap;
-use crate::ops::Op;
 use crate::passes::fold::const_value;
 use crate::scene::Scene;
-use crate::shape::{CombineOp, Declared, DistMod, PointMap, Prim, ShapeKind, WarpMap};
+use crate::shape::{CombineOp, DistMod, PointMap, Prim, ShapeKind};
 use crate::value::Value;
 use bounds::Aabb;
 pub use explain::explain;
-use gradient::Comp;
+pub use lipschitz::{bend_lipschitz, shear_inverse, spectral_norm, twist_lipschitz};
 use sdfc_syntax::diag::Diagnostic;
-use sdfc_syntax::span::Span;
 
 /// What a node's distance is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -180,10 +181,6 @@ pub const DEFAULT_REGION: f64 = 4.0;
 /// order), so that compile time stays bounded for scenes with thousands of displacements.
 pub const MAX_CHECKED: usize = 64;
 
-/// Relative slack for the declared-bound check (finite differences in f64 are far more
-/// accurate than this; it keeps rounding from raising a warning).
-const CHECK_SLACK: f64 = 1e-3;
-
 /// Analyses every shape of `scene`; `check` runs the sampling check of declared bounds.
 pub fn analyse(scene: &Scene, check: bool) -> Analysis {
     let mut a = Analyser {
@@ -209,54 +206,6 @@ struct Analyser<'s> {
     check: bool,
     /// Declared bounds checked so far.
     checked: usize,
-}
-
-/// The spectral norm of a 3x3 matrix (rows), from the largest eigenvalue of `A^T A` in
-/// closed form, rounded up slightly so that it stays an upper bound (a diagonal `A^T A`
-/// needs no margin: its largest entry is the eigenvalue).
-pub fn spectral_norm(a: [[f64; 3]; 3]) -> f64 {
-    let b = |i: usize, j: usize| (0..3).map(|k| a[k][i] * a[k][j]).sum::<f64>();
-    let p1 = b(0, 1).powi(2) + b(0, 2).powi(2) + b(1, 2).powi(2);
-    if p1 == 0.0 {
-        return b(0, 0).max(b(1, 1)).max(b(2, 2)).sqrt();
-    }
-    let lambda = {
-        let q = (b(0, 0) + b(1, 1) + b(2, 2)) / 3.0;
-        let p2 = (b(0, 0) - q).powi(2) + (b(1, 1) - q).powi(2) + (b(2, 2) - q).powi(2) + 2.0 * p1;
-        let p = (p2 / 6.0).sqrt();
-        let n = |i: usize, j: usize| (b(i, j) - if i == j { q } else { 0.0 }) / p;
-        let det = n(0, 0) * (n(1, 1) * n(2, 2) - n(1, 2) * n(2, 1))
-            - n(0, 1) * (n(1, 0) * n(2, 2) - n(1, 2) * n(2, 0))
-            + n(0, 2) * (n(1, 0) * n(2, 1) - n(1, 1) * n(2, 0));
-        let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
-        q + 2.0 * p * phi.cos()
-    };
-    lambda.max(0.0).sqrt() * (1.0 + 1e-9)
-}
-
-/// The rows of the inverse of the shear `x += kxy y + kxz z, y += kyz z`.
-pub fn shear_inverse(k: [f64; 3]) -> [[f64; 3]; 3] {
-    let [kxy, kxz, kyz] = k;
-    [
-        [1.0, -kxy, kxy * kyz - kxz],
-        [0.0, 1.0, -kyz],
-        [0.0, 0.0, 1.0],
-    ]
-}
-
-/// The Lipschitz constant of the twist map `p -> rot_y(-k p.y) p` where `|k| r <= kr`:
-/// its Jacobian is `[[R, k w], [0, 1]]` with `|w| = r`, whose largest singular value is
-/// `t + sqrt(1 + t^2)` with `t = |k| r / 2`.
-pub fn twist_lipschitz(kr: f64) -> f64 {
-    let t = kr.abs() * 0.5;
-    t + (1.0 + t * t).sqrt()
-}
-
-/// The Lipschitz constant of the bend map (a rotation about z by `k p.x`) where
-/// `|k| sqrt(x^2 + y^2) <= kr`: its Jacobian is a rotation times `I + u e_x^T` with
-/// `|u| = kr`, whose norm is at most `1 + kr`.
-pub fn bend_lipschitz(kr: f64) -> f64 {
-    1.0 + kr.abs()
 }
 
 impl Analyser<'_> {
@@ -663,300 +612,6 @@ impl Analyser<'_> {
         };
         prim_outside(prim, radii)
     }
-
-    fn point_map(&mut self, map: &PointMap, c: &NodeInfo) -> (Exactness, Aabb) {
-        match map {
-            PointMap::Affine { m, o, s } => {
-                // local = (m p + o) / s, so p = m^T (s local - o) (m is orthonormal).
-                let m = match m {
-                    Some(m) => match self.konst(*m) {
-                        Some(Value::M3(cols)) => Some(cols.map(|c| c.map(|x| x as f64))),
-                        _ => return (c.exactness, Aabb::EVERYTHING),
-                    },
-                    None => None,
-                };
-                let o = match o {
-                    Some(o) => match self.vec3(*o) {
-                        Some(v) => v,
-                        None => return (c.exactness, Aabb::EVERYTHING),
-                    },
-                    None => [0.0; 3],
-                };
-                let s = match s {
-                    Some(s) => match self.scalar(*s) {
-                        Some(v) => v,
-                        None => return (c.exactness, Aabb::EVERYTHING),
-                    },
-                    None => 1.0,
-                };
-                // Without a turn, axis by axis: a box open on some sides (a floor's
-                // half-space) keeps its closed ones, where the corners' box gives up. (Turns
-                // are not exact in f32: a quarter turn's matrix has entries of 1e-8, which
-                // mix an infinite side into every axis.)
-                if m.is_none() && s != 0.0 && s.is_finite() {
-                    return (c.exactness, c.bounds.moved(s, o));
-                }
-                let b = c.bounds.map_corners(|l| {
-                    let v = [0, 1, 2].map(|i| s * l[i] - o[i]);
-                    match m {
-                        // m^T v: row r of m^T is column r of m.
-                        Some(cols) => [0, 1, 2].map(|r| (0..3).map(|k| cols[r][k] * v[k]).sum()),
-                        None => v,
-                    }
-                });
-                (c.exactness, b)
-            }
-            PointMap::Mirror(axis) => {
-                let a = *axis as usize;
-                let mut b = c.bounds;
-                let h = b.hi[a].max(0.0);
-                b.lo[a] = -h;
-                b.hi[a] = h;
-                (c.exactness.max(Exactness::Bound), b)
-            }
-            PointMap::Repeat { period } | PointMap::RepeatLimited { period, .. } => {
-                let count = match map {
-                    PointMap::RepeatLimited { count, .. } => Some(*count),
-                    _ => None,
-                };
-                let mut b = c.bounds;
-                let mut fits = true;
-                let halves = map.half_periods();
-                for i in 0..3 {
-                    // One copy along an axis has no neighbour there.
-                    if halves[i] == 0.0 {
-                        continue;
-                    }
-                    // A copy that stays in its cell: the nearest copy to a point is its own
-                    // cell's or, along an axis the copy is not symmetric about, the
-                    // neighbour on the point's side, which `to_ssa` evaluates too.
-                    fits &= c.bounds.within_cell(i, halves[i]);
-                    let p = period[i] as f64;
-                    match count {
-                        Some(n) => {
-                            let e = p * (n[i] as f64 - 1.0) / 2.0;
-                            b.lo[i] -= e;
-                            b.hi[i] += e;
-                        }
-                        None => {
-                            b.lo[i] = f64::NEG_INFINITY;
-                            b.hi[i] = f64::INFINITY;
-                        }
-                    }
-                }
-                let e = if fits {
-                    c.exactness.max(Exactness::Bound)
-                } else {
-                    Exactness::Neither
-                };
-                (e, b)
-            }
-            PointMap::Elongate(h) => match self.vec3(*h) {
-                Some(h) => (
-                    c.exactness,
-                    Aabb {
-                        lo: [0, 1, 2].map(|i| c.bounds.lo[i] - h[i]),
-                        hi: [0, 1, 2].map(|i| c.bounds.hi[i] + h[i]),
-                    },
-                ),
-                None => (c.exactness, Aabb::EVERYTHING),
-            },
-        }
-    }
-
-    /// Bounds, Lipschitz constant and its source of a bound-only point map.
-    fn warp(
-        &mut self,
-        map: WarpMap,
-        child: &Aabb,
-        declared: Option<(f64, Span)>,
-        raw: Declared,
-        span: Span,
-    ) -> (Aabb, Option<f64>, Source) {
-        match map {
-            WarpMap::Stretch(s) => match self.vec3(s) {
-                Some(s) => {
-                    let b = child.map_corners(|p| [0, 1, 2].map(|i| p[i] * s[i]));
-                    (b, Some(1.0 / s[0].min(s[1]).min(s[2])), Source::Derived)
-                }
-                None => (Aabb::EVERYTHING, None, Source::Symbolic),
-            },
-            WarpMap::Shear(k) => match self.vec3(k) {
-                Some(k) => {
-                    let [kxy, kxz, kyz] = k;
-                    let b = child
-                        .map_corners(|p| [p[0] + kxy * p[1] + kxz * p[2], p[1] + kyz * p[2], p[2]]);
-                    (b, Some(spectral_norm(shear_inverse(k))), Source::Derived)
-                }
-                None => (Aabb::EVERYTHING, None, Source::Symbolic),
-            },
-            WarpMap::Twist(k) | WarpMap::Bend(k) => {
-                let twist = matches!(map, WarpMap::Twist(_));
-                // Twist keeps the distance from the y axis, bend that from the z axis.
-                let axis = if twist { 1 } else { 2 };
-                let r = child.radius_about(axis);
-                let mut b = Aabb::EVERYTHING;
-                if r.is_finite() {
-                    for i in (0..3).filter(|i| *i != axis) {
-                        b.lo[i] = -r;
-                        b.hi[i] = r;
-                    }
-                }
-                b.lo[axis] = child.lo[axis];
-                b.hi[axis] = child.hi[axis];
-                if let Some((l, _)) = declared {
-                    return (b, Some(l), Source::Declared);
-                }
-                if !r.is_finite() && raw.is_none() {
-                    let name = if twist { "twist" } else { "bend" };
-                    self.out.diagnostics.push(
-                        Diagnostic::error(span, format!("`{name}` of a shape whose bounds are not known at compile time needs a declared Lipschitz bound"))
-                            .with_label("unbounded, repeated, or sized by a param")
-                            .with_hint(format!("bound the shape (intersect it with a box), or give `lipschitz: L` with L at least 1 + |k| times the largest distance from the {} axis your scene reaches", if twist { "y" } else { "z" })),
-                    );
-                    return (b, None, Source::Symbolic);
-                }
-                let l = self.scalar(k).map(|k| {
-                    if twist {
-                        twist_lipschitz(k * r)
-                    } else {
-                        bend_lipschitz(k * r)
-                    }
-                });
-                (b, l, Source::Symbolic)
-            }
-            WarpMap::Lambda { body, lambda } => {
-                if let Some((l, at)) = declared {
-                    self.check_declared(body, lambda, 1, l, None, at, &Aabb::EVERYTHING, "warp");
-                    return (Aabb::EVERYTHING, Some(l), Source::Declared);
-                }
-                let j = gradient::jacobian_norm(&self.body_bound(body, lambda, 1));
-                if !j.is_finite() {
-                    self.out.diagnostics.push(
-                        Diagnostic::error(span, "the compiler cannot bound how much this warp stretches space")
-                            .with_label("no Lipschitz bound")
-                            .with_hint("declare one: `lipschitz: L` with L at least the largest stretch factor of the map"),
-                    );
-                }
-                (Aabb::EVERYTHING, Some(j), Source::Derived)
-            }
-        }
-    }
-
-    /// Value and gradient bounds of a lambda body over all of space (the segment from a
-    /// point to the nearest surface may leave any bounded region).
-    fn body_bound(&mut self, body: NodeId, lambda: u32, params: u8) -> Vec<Comp> {
-        let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        let input = |op: Op, width: usize| match op {
-            // `|p|`: the point; `|x, z|`: its x and z.
-            Op::LambdaArg { lambda: l, index } if l == lambda && index < params => {
-                Some(if params == 1 {
-                    (0..width).map(|i| Comp::coord(i, lo, hi)).collect()
-                } else {
-                    vec![Comp::coord(2 * index as usize, lo, hi)]
-                })
-            }
-            // Params and time vary at run time but not with the point.
-            Op::Param(_) | Op::Time => Some(vec![Comp::fixed(lo, hi); width]),
-            _ => None,
-        };
-        gradient::bound(&self.scene.values, body, &input)
-    }
-
-    /// Warns when sampling finds the point function's slope above its declared bound (for
-    /// `displace`, the bound is that of the displaced distance: the child's distance plus
-    /// the expression, and `child` is that child).
-    #[allow(clippy::too_many_arguments)]
-    fn check_declared(
-        &mut self,
-        body: NodeId,
-        lambda: u32,
-        params: u8,
-        declared: f64,
-        child: Option<crate::shape::ShapeId>,
-        at: Span,
-        region: &Aabb,
-        name: &str,
-    ) {
-        if !self.check || self.checked >= MAX_CHECKED {
-            return;
-        }
-        self.checked += 1;
-        let region = Aabb {
-            lo: region.lo.map(|x| x.max(-DEFAULT_REGION)),
-            hi: region.hi.map(|x| x.min(DEFAULT_REGION)),
-        };
-        let params_now: Vec<Value<f64>> =
-            self.scene.params.iter().map(|p| p.default.cast()).collect();
-        let ev = sample::LambdaEval::new(&self.scene.values, body, lambda, params_now.clone());
-        // The child's distance function, for `displace`.
-        let child_fn = child.map(|c| {
-            let sub = Scene {
-                root: c,
-                ..self.scene.clone()
-            };
-            crate::to_ssa::functions(&sub, false)
-        });
-        let f = |p: [f64; 3]| -> Vec<f64> {
-            let args = if params == 1 {
-                vec![Value::V3(p)]
-            } else {
-                vec![Value::F(p[0]), Value::F(p[2])]
-            };
-            let mut v = ev.eval(&args).comps();
-            if let (Some(fs), Some(x)) = (&child_fn, v.first_mut()) {
-                let inputs = crate::eval::Inputs {
-                    point: p,
-                    ray: [0.0; 3],
-                    params: params_now.clone(),
-                    time: 0.0,
-                };
-                let d = crate::eval::eval_func(&fs.distance, &fs.groups, &inputs);
-                *x += d.first().and_then(|d| d.scalar()).unwrap_or(0.0);
-            }
-            v
-        };
-        let slope = sample::max_slope(&region, sample::SAMPLES, &f);
-        if slope > declared * (1.0 + CHECK_SLACK) + 1e-9 {
-            let what = match name {
-                "displace" => {
-                    format!("the displaced distance changes at up to {slope:.4} per unit")
-                }
-                "warp" => format!("the warp stretches space by up to {slope:.4}"),
-                "heightfield" => format!("the terrain's slope reaches {slope:.4}"),
-                _ => format!("the distance expression's slope reaches {slope:.4}"),
-            };
-            self.out.diagnostics.push(
-                Diagnostic::warning(at, format!("the declared Lipschitz bound {} of `{name}` is too small: {what}", declared as f32))
-                    .with_label("contradicted by sampling")
-                    .with_hint(if slope > JUMP {
-                        "the expression seems to jump (a `step`, `floor`, `fract` or `select` of the point?): no bound makes a discontinuous distance safe".to_string()
-                    } else {
-                        format!("use `lipschitz: {}` or more; a bound that is too small lets rays step through the surface", round_up(slope))
-                    }),
-            );
-        }
-    }
-}
-
-/// A sampled slope above this is taken for a discontinuity.
-const JUMP: f64 = 1e3;
-
-/// A value rounded up to 3 significant digits, for hints.
-fn round_up(x: f64) -> f64 {
-    if x.is_nan() || x <= 0.0 || !x.is_finite() {
-        return x;
-    }
-    // Scaled by an exact power of ten and back by dividing: multiplying by 0.01 (inexact)
-    // printed 3.01 as 3.0100000000000002.
-    let k = x.log10().floor() as i32 - 2;
-    if k < 0 {
-        let scale = 10f64.powi(-k);
-        (x * scale).ceil() / scale
-    } else {
-        let scale = 10f64.powi(k);
-        (x / scale).ceil() * scale
-    }
 }
 
 /// The box of the points where a child's field is at most `g`: for g > 0 its own box grown
@@ -973,114 +628,5 @@ fn grow_below(c: &NodeInfo, g: f64) -> Aabb {
         c.bounds.grow(g / c.outside)
     } else {
         Aabb::EVERYTHING
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Hints print the rounded bound as a user would write it.
-    #[test]
-    fn hints_round_up_to_three_digits_and_print_short() {
-        assert_eq!(round_up(3.0000001).to_string(), "3.01");
-        assert_eq!(round_up(0.0123401).to_string(), "0.0124");
-        assert_eq!(round_up(12345.6).to_string(), "12400");
-        assert_eq!(round_up(2.5).to_string(), "2.5");
-        for x in [0.3333, 1.7001, 7.77777, 123.4567, 9.999] {
-            assert!(round_up(x) >= x, "{x}");
-        }
-    }
-
-    /// The spectral norm of `m` by power iteration on `m^T m` (a lower estimate that
-    /// converges to the true value), for comparison with the closed form.
-    fn power(m: [[f64; 3]; 3]) -> f64 {
-        let mut v = [0.3, 0.5, 0.7];
-        let mul = |v: [f64; 3]| [0, 1, 2].map(|i| (0..3).map(|j| m[i][j] * v[j]).sum::<f64>());
-        let mul_t = |v: [f64; 3]| [0, 1, 2].map(|j| (0..3).map(|i| m[i][j] * v[i]).sum::<f64>());
-        for _ in 0..500 {
-            let w = mul_t(mul(v));
-            let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-            v = w.map(|x| x / n);
-        }
-        let w = mul(v);
-        (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt()
-    }
-
-    #[test]
-    fn spectral_norm_matches_power_iteration_and_never_undershoots() {
-        assert_eq!(
-            spectral_norm([[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]]),
-            3.0
-        );
-        for k in [
-            [0.5, 0.0, 0.25],
-            [1.0, -2.0, 0.5],
-            [0.0, 0.0, 3.0],
-            [0.1, 0.2, 0.3],
-        ] {
-            let m = shear_inverse(k);
-            let (closed, iter) = (spectral_norm(m), power(m));
-            assert!(closed >= iter, "{k:?}: {closed} < {iter}");
-            assert!((closed - iter) / iter < 1e-8, "{k:?}: {closed} vs {iter}");
-        }
-        // The inverse really inverts the shear.
-        let k = [0.5, -0.3, 0.25];
-        let m = shear_inverse(k);
-        let p = [0.7, -1.1, 0.4];
-        let fwd = [p[0] + k[0] * p[1] + k[1] * p[2], p[1] + k[2] * p[2], p[2]];
-        let back = [0, 1, 2].map(|i| (0..3).map(|j| m[i][j] * fwd[j]).sum::<f64>());
-        for i in 0..3 {
-            assert!((back[i] - p[i]).abs() < 1e-15);
-        }
-    }
-
-    /// The Jacobian of `f` at `p` by central differences, as rows.
-    fn jacobian(f: impl Fn([f64; 3]) -> [f64; 3], p: [f64; 3]) -> [[f64; 3]; 3] {
-        let h = 1e-6;
-        let mut j = [[0.0; 3]; 3];
-        for c in 0..3 {
-            let (mut a, mut b) = (p, p);
-            a[c] += h;
-            b[c] -= h;
-            let (fa, fb) = (f(a), f(b));
-            for r in 0..3 {
-                j[r][c] = (fa[r] - fb[r]) / (2.0 * h);
-            }
-        }
-        j
-    }
-
-    #[test]
-    fn twist_and_bend_constants_bound_their_maps_jacobians() {
-        let k: f64 = 1.5;
-        let twist = |p: [f64; 3]| {
-            let (s, c) = (k * p[1]).sin_cos();
-            [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]]
-        };
-        let bend = |p: [f64; 3]| {
-            let (s, c) = (k * p[0]).sin_cos();
-            [c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2]]
-        };
-        for r in [0.1, 0.7, 2.0] {
-            let mut worst: f64 = 0.0;
-            for a in 0..64 {
-                let t = a as f64 * std::f64::consts::TAU / 64.0;
-                let (s, c) = t.sin_cos();
-                worst = worst.max(power(jacobian(twist, [r * c, 0.3, r * s])));
-            }
-            let l = twist_lipschitz(k * r);
-            // t + sqrt(1 + t^2) is the largest singular value, reached at every angle (the
-            // finite differences are good to about 1e-9).
-            assert!((l - worst).abs() < 1e-8, "twist r {r}: {l} vs {worst}");
-            let mut worst: f64 = 0.0;
-            for a in 0..64 {
-                let t = a as f64 * std::f64::consts::TAU / 64.0;
-                let (s, c) = t.sin_cos();
-                worst = worst.max(power(jacobian(bend, [r * c, r * s, 0.2])));
-            }
-            let l = bend_lipschitz(k * r);
-            assert!(l >= worst - 1e-8, "bend r {r}: {l} vs {worst}");
-        }
     }
 }

@@ -3,11 +3,13 @@
 //! shader's `--instances` form does, instead of one inlined copy of code per shape. The live
 //! path previews such a union so: its bytecode no longer grows with the shapes.
 
+use super::allocate::allocate;
 use super::encode::{
-    allocate, fold, reg, unsupported, Bytecode, Chunk, EncodeError, Encoder, Inputs, VIns, Val,
-    MAX_CONSTANTS, MAX_INSTRUCTIONS, POINT,
+    reg, unsupported, Bytecode, Chunk, EncodeError, Encoder, Inputs, VIns, Val, MAX_CONSTANTS,
+    MAX_INSTRUCTIONS, POINT,
 };
 use super::opcodes::Opcode;
+use super::peephole::fold;
 use crate::instances::{plan_interpreted, Plan, HEAD};
 use sdfc_ir::scene::Material;
 use sdfc_ir::Program;

@@ -6,8 +6,9 @@
 //! `sdfc_ir::eval::apply`, with the argument swizzles (`a.xyz`, `b.x`, ...) read from the
 //! helper's `case` line in the shader, so the two cannot drift apart.
 
-use super::encode::{arity, Bytecode, MAX_REGISTERS};
+use super::encode::{Bytecode, MAX_REGISTERS};
 use super::exec_walk::{Trip, Walk};
+use super::listing::arity;
 use super::opcodes::{builtin_opcode, decode, helper_opcode, Opcode};
 use super::INTERPRET;
 use sdfc_ir::eval::apply;

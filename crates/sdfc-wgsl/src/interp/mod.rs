@@ -41,12 +41,16 @@
 //! section 10) to 1.79x (the 300-shape grid) faster, the same pictures and steps
 //! (docs/performance.md, "Relaxation in the merged marcher").
 
+mod allocate;
 pub mod encode;
 pub mod encode_instances;
 pub mod exec;
 mod exec_walk;
 pub mod frame;
+mod listing;
 pub mod opcodes;
+mod peephole;
+mod schedule;
 
 use crate::{parts, validate, Failure};
 use encode::MAX_REGISTERS;

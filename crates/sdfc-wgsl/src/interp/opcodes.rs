@@ -116,7 +116,7 @@ opcodes! {
     Normalize4 = 78, "OP_NORMALIZE4", "normalize4";
     Cross = 79, "OP_CROSS", "cross";
     // length(abs(a.xyz) + b.xyz): a culled part's farthest corner from the point, the
-    // `abs`, `add` and `length3` of its bound in one trip (`encode::fold_far_corners`).
+    // `abs`, `add` and `length3` of its bound in one trip (`peephole::fold_far_corners`).
     FarCorner = 80, "OP_FAR_CORNER", "far_corner";
     // Distance helpers (`shaders/prims`, `shaders/transforms`, `shaders/noise.wgsl`).
     SdSphere = 100, "OP_SD_SPHERE", "sd_sphere";
@@ -213,7 +213,7 @@ pub fn builtin_opcode(b: Builtin) -> Option<Opcode> {
 
 /// Set in an instruction's opcode word: its first argument is `a - d`, not `a`. A translated
 /// shape's `sub` of the point and its offset, folded into the instructions that read it
-/// (`encode::fold_translations`): one trip of the interpreter's loop less for each.
+/// (`peephole::fold_translations`): one trip of the interpreter's loop less for each.
 pub const FOLDED_SUB: u32 = 1 << 31;
 
 /// `const OP_*: u32 = N;` for every opcode: the WGSL side's numbering.

@@ -1,9 +1,7 @@
 //! Over-relaxed sphere tracing (`relaxation: 1.6`, `shaders/march_step_relaxed.wgsl`; off by
 //! default) against the plain marcher on the same scenes at 64x48: fewer march steps per
-//! pixel (the steps AOV, exact) on spec section 10 and the terrain, at most a tenth more on
-//! the fractals and the ribbed sphere, whose floors' marches it used to shorten and a
-//! plane's distance along the ray now takes in a step; no more hit/miss mismatches away
-//! from silhouettes against the f64 reference, no NaN/Inf. Step counts, not times: the test
+//! pixel (the steps AOV, exact) on every scene, no more hit/miss mismatches away from
+//! silhouettes against the f64 reference, no NaN/Inf. Step counts, not times: the test
 //! makes no timing claim.
 //!
 //! Measured on lavapipe, 128x96, mean steps plain -> 1.6 (`docs/performance.md`): sphere
@@ -12,8 +10,11 @@
 //! half-space take no step (2026-12-06), terrain 26.9 -> 23.6, fractals 20.1 -> 16.8.
 //! Since a plane's distance is taken along the ray (2026-12-07), rays reach a floor in a
 //! step or two, and relaxation has little left to save where the floor was the long march:
-//! at 64x48 spec section 10 17.2 -> 15.1, terrain 25.2 -> 22.9, and it costs steps on the
-//! fractals (9.9 -> 10.1) and the ribbed sphere (7.6 -> 8.1).
+//! at 64x48 spec section 10 17.2 -> 15.1, terrain 25.2 -> 22.9, and it cost steps on the
+//! fractals (9.9 -> 10.1) and the ribbed sphere (7.6 -> 8.1), where its first step, taken
+//! at the full factor before any slope was known, overshot every ray that meets a surface
+//! head on. Since that step is plain (stop 53), at 64x48: spec section 10 17.37 -> 15.38,
+//! terrain 25.82 -> 23.64, fractals 10.04 -> 9.36, ribbed sphere 7.60 -> 7.14.
 
 mod common;
 
@@ -24,12 +25,13 @@ use common::{compile, renderer, root};
 /// measured savings at 64x48 were 15% to 23%, 12% since planes are stepped along the ray).
 const LEAST_SAVING: f64 = 0.1;
 
-/// Relaxation's largest cost allowed where its saving was the floor's march, which a plane's
-/// distance along the ray now takes in a step or two (`scene_distance_ray`): at most a tenth
-/// more steps than the plain marcher (measured at 64x48: fractals +2%, ribbed sphere +7%).
-const MOST_COST_FLOORED: f64 = -0.1;
+/// The least saving where relaxation's saving was the floor's march, which a plane's
+/// distance along the ray now takes in a step or two (`scene_distance_ray`): measured at
+/// 64x48, fractals 6.8% and ribbed sphere 6.1%. Before the first step was plain (stop 53)
+/// relaxation cost steps on both (2% and 6% more than the plain marcher).
+const LEAST_SAVING_FLOORED: f64 = 0.05;
 
-/// The terrain's floor: 9.1% measured at 64x48 since its rays into the sky, where relaxation
+/// The terrain's floor: 8.4% measured at 64x48 (9.1% before stop 53) since its rays into the sky, where relaxation
 /// saved most (their long grazing marches), take no step at all (`ray_span` ends them at
 /// the heightfield's top, 2026-12-06); it saved 15.5% when they marched.
 const LEAST_SAVING_TERRAIN: f64 = 0.05;
@@ -108,10 +110,10 @@ fn terrain() {
 
 #[test]
 fn fractals() {
-    check_saving("examples/fractals.sdf", MOST_COST_FLOORED);
+    check_saving("examples/fractals.sdf", LEAST_SAVING_FLOORED);
 }
 
 #[test]
 fn ribbed_sphere() {
-    check_saving("examples/ribbed_sphere.sdf", MOST_COST_FLOORED);
+    check_saving("examples/ribbed_sphere.sdf", LEAST_SAVING_FLOORED);
 }

@@ -59,10 +59,11 @@ fn march_sampled(s: ptr<function, Stepping>, d: f32, pixel: f32) -> f32 {
         // factor is at most RELAXATION, and the last two samples give the slope. Head on
         // (slope 1) that is a plain step, so the fallback rarely fires; at a grazing angle or
         // in open space it is the full factor. With no slope yet (the ray's first sample, or
-        // the first after a pass by) the step is plain: the full factor there overshot every
-        // ray that meets a surface head on and cost it a sample taken back, so that
-        // relaxation took more steps than the plain marcher on the sphere, the ribbed sphere
-        // and the fractals (docs/performance.md, "Relaxation: no factor before the slope").
+        // the first step after a pass by or a step taken back) the step is plain: the full
+        // factor there overshot rays that meet a surface head on (a sample taken back, or a
+        // refinement from behind the surface), so that relaxation took more steps than the
+        // plain marcher on the sphere, the ribbed sphere and the fractals
+        // (docs/performance.md, "Relaxation: no factor before the slope").
         var w = 1.0;
         if RELAXATION > 1.0 && !(*s).retry && (*s).step > 0.0 {
             let slope = clamp(((*s).radius - radius) / (*s).step, 0.0, 1.0);

@@ -49,7 +49,7 @@ pub fn print(text: &str) -> Result<(), Outcome> {
     }
 }
 
-/// [`print`] as a command's last step: its outcome.
+/// [`print()`] as a command's last step: its outcome.
 pub fn print_last(text: &str) -> Outcome {
     match print(text) {
         Ok(()) => Outcome::Ok,

@@ -102,7 +102,7 @@ pub struct Analysis {
     /// The axes each shape is mirror-symmetric about (`symmetry::mirror_axes`).
     pub mirror: Vec<[bool; 3]>,
     /// The size of the smallest shape, in the scene's units: the least, over the shapes the
-    /// root reaches, of their box's largest half-extent (at most [`THIN_RATIO`] times its
+    /// root reaches, of their box's largest half-extent (at most `THIN_RATIO` times its
     /// smallest) times the scales above it (the least over the paths to it); 0 where a leaf
     /// other than a plane has no finite box, or below a warp or a displacement, which may
     /// make a shape smaller than its box. The distance function's numbers near a surface are

@@ -2,10 +2,10 @@
 //! their value's last read, and the instructions packed as bytecode.
 
 use super::encode::{
-    is_register, unsupported, EncodeError, VIns, CONST_OPERAND, MAX_REGISTERS, POINT,
+    is_register, unsupported, virtual_registers, EncodeError, VIns, CONST_OPERAND, MAX_REGISTERS,
+    POINT,
 };
 use super::opcodes::FOLDED_SUB;
-use super::peephole::virtual_registers;
 
 /// Maps virtual registers to physical ones (reused after their value's last read), appends
 /// the instructions to `code`; returns how many registers they use.

@@ -78,7 +78,7 @@ pub struct Bytecode {
     /// Registers the code uses (at most [`MAX_REGISTERS`]).
     pub registers: u32,
     /// Instructions before the two functions: the kinds' code of a union read as data
-    /// ([`encode_instances`]); 0 otherwise.
+    /// (`encode_instances`); 0 otherwise.
     pub kinds: u32,
     /// The union read as data (the hierarchy and records of `shaders/instances.wgsl`), one
     /// `vec4<u32>` each; empty otherwise.
@@ -113,7 +113,8 @@ pub(super) struct VIns {
     pub(super) dst: Option<u32>,
     pub(super) args: Vec<u32>,
     pub(super) imm: u32,
-    /// The first argument is `args[0] - args[3]` ([`FOLDED_SUB`], [`fold_translations`]).
+    /// The first argument is `args[0] - args[3]` ([`super::opcodes::FOLDED_SUB`],
+    /// `peephole::fold_translations`).
     pub(super) folded: bool,
 }
 
@@ -166,6 +167,18 @@ fn const_operand(k: u32) -> u32 {
 /// Whether a virtual operand is a register (not a constant of the pool).
 pub(super) fn is_register(v: u32) -> bool {
     v & CONST_OPERAND == 0
+}
+
+/// How many virtual registers the instructions name (the point's included): the size of
+/// tables indexed by them.
+pub(super) fn virtual_registers(ins: &[VIns]) -> usize {
+    ins.iter()
+        .flat_map(|x| x.dst.iter().chain(&x.args))
+        .filter(|&&v| is_register(v))
+        .max()
+        .map_or(0, |&v| v as usize)
+        .max(POINT as usize)
+        + 1
 }
 
 impl Chunk {
@@ -689,9 +702,9 @@ impl Encoder<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::listing::arity;
-    use super::super::opcodes::decode;
     use super::*;
+    use crate::interp::listing::arity;
+    use crate::interp::opcodes::decode;
 
     /// Every register an instruction reads was written earlier in the same function (or is
     /// the point, register 0): the shader's register file holds whatever an earlier call left

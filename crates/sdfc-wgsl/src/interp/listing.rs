@@ -81,7 +81,7 @@ impl Bytecode {
 /// Register arguments an opcode reads, as its `case` in `shaders/interpreter/interpret.wgsl`
 /// uses them (for listings, the read-before-write test and the CPU twin `exec`; unused slots
 /// are 0).
-pub(crate) fn arity(op: Opcode) -> usize {
+pub(super) fn arity(op: Opcode) -> usize {
     use Opcode::*;
     match op {
         Param | Time | Ray | Arg => 0,

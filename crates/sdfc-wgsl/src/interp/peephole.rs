@@ -1,7 +1,7 @@
 //! Peephole folds over the virtual instructions before registers are allocated: constant
 //! translations into their readers, culled parts' bounds into one `far_corner`.
 
-use super::encode::{is_register, VIns, POINT};
+use super::encode::{is_register, virtual_registers, VIns, POINT};
 use super::listing::arity;
 use super::opcodes::Opcode;
 
@@ -9,18 +9,6 @@ use super::opcodes::Opcode;
 /// own into the `far_corner`.
 pub(super) fn fold(ins: Vec<VIns>) -> Vec<VIns> {
     fold_far_corners(fold_translations(ins))
-}
-
-/// How many virtual registers the instructions name (the point's included): the size of
-/// tables indexed by them.
-pub(super) fn virtual_registers(ins: &[VIns]) -> usize {
-    ins.iter()
-        .flat_map(|x| x.dst.iter().chain(&x.args))
-        .filter(|&&v| is_register(v))
-        .max()
-        .map_or(0, |&v| v as usize)
-        .max(POINT as usize)
-        + 1
 }
 
 /// Whether an instruction can take a folded `sub` as its first argument: it reads at most

@@ -11,9 +11,10 @@
 //! Since a plane's distance is taken along the ray (2026-12-07), rays reach a floor in a
 //! step or two, and relaxation has little left to save where the floor was the long march:
 //! at 64x48 spec section 10 17.2 -> 15.1, terrain 25.2 -> 22.9, and it cost steps on the
-//! fractals (9.9 -> 10.1) and the ribbed sphere (7.6 -> 8.1), where its first step, taken
-//! at the full factor before any slope was known, overshot every ray that meets a surface
-//! head on. Since that step is plain (stop 53), at 64x48: spec section 10 17.37 -> 15.38,
+//! fractals (9.9 -> 10.1) and the ribbed sphere (7.6 -> 8.1): its first step, taken at the
+//! full factor before any slope was known, overshot rays that meet a surface head on (a
+//! sample taken back, or a refinement from behind the surface). Since that step is plain
+//! (stop 53), at 64x48: spec section 10 17.37 -> 15.38,
 //! terrain 25.82 -> 23.64, fractals 10.04 -> 9.36, ribbed sphere 7.60 -> 7.14.
 
 mod common;

@@ -68,6 +68,37 @@ fn a_flat_union_of_the_maximum_file_size_compiles_in_small_functions() {
     assert!(msg.contains("larger than"), "{msg}");
 }
 
+/// A union written as a chain of `|`, far longer than the expression depth limit, is the
+/// same scene as the `union(...)` call: the same WGSL, its shapes as code and as data.
+#[test]
+fn a_long_chain_of_bars_is_the_union_call() {
+    let call = max_size_union(60_000);
+    let items: Vec<&str> = call
+        .lines()
+        .filter_map(|l| l.trim().strip_suffix(','))
+        .collect();
+    assert!(
+        items.len() > 4 * sdfc_syntax::MAX_EXPR_DEPTH,
+        "{}",
+        items.len()
+    );
+    let bars = format!("scene = {};\n", items.join("\n  | "));
+    for instances in [sdfc_wgsl::Instances::Auto, sdfc_wgsl::Instances::Never] {
+        let opts = Options {
+            instances,
+            ..Options::default()
+        };
+        let emitted = |name: &str, src: &str| match compile(src, &opts) {
+            Ok(c) => (c.wgsl, c.data),
+            Err(Failure::Diagnostics(d)) => panic!("{name}: {:?}", d[0].message),
+            Err(f) => panic!("{name}: {f}"),
+        };
+        let (call, bars) = (emitted("call", &call), emitted("bars", &bars));
+        assert!(call == bars, "{instances:?}: the two forms differ");
+        assert_eq!(call.1.is_empty(), instances == sdfc_wgsl::Instances::Never);
+    }
+}
+
 #[test]
 fn doubling_lets_below_the_limit_are_emitted_once_per_let() {
     // 15 levels unfold into about 98 000 shapes, under the limit of 100 000.

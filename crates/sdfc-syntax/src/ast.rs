@@ -78,6 +78,12 @@ pub enum ExprKind {
     Name(Ident),
     Unary(UnaryOp, Box<Expr>),
     Binary(BinaryOp, Box<Expr>, Box<Expr>),
+    /// `a | b | c` or `a & b & c` (the op is `Or` or `And`): a chain of one shape operator
+    /// as one node, two operands or more. A left-deep tree of `Binary` nodes would be as deep
+    /// as the chain is long, and the depth limit would refuse a union of a few hundred shapes
+    /// written with `|`. A parenthesised chain on the left joins it, as `union` is
+    /// associative; one on the right stays an operand.
+    Chain(BinaryOp, Vec<Expr>),
     /// `f(args)`, or `recv.f(args)` with `method: true` and the receiver as the first argument.
     Call {
         callee: Ident,

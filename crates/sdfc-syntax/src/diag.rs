@@ -1,9 +1,11 @@
 //! Diagnostics: what went wrong, where, and a hint; rendered with codespan-reporting.
 
+use crate::elide::Elided;
 use crate::span::Span;
 use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
-use codespan_reporting::files::SimpleFile;
+use codespan_reporting::files::{Error as FilesError, Files, SimpleFile};
 use codespan_reporting::term::{self, termcolor::Buffer};
+use std::ops::Range;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Severity {
@@ -133,7 +135,6 @@ pub fn render_with(
     diagnostics: &[Diagnostic],
     color: bool,
 ) -> String {
-    let file = SimpleFile::new(file_name, source);
     let mut buffer = if color {
         Buffer::ansi()
     } else {
@@ -151,9 +152,26 @@ pub fn render_with(
             Severity::Error => CsDiagnostic::error(),
             Severity::Warning => CsDiagnostic::warning(),
         };
-        let mut labels = vec![Label::primary((), clamp(d.span)).with_message(d.label.clone())];
-        for (span, msg) in &d.secondary {
-            labels.push(Label::secondary((), clamp(*span)).with_message(msg.clone()));
+        let spans: Vec<Range<usize>> = std::iter::once(d.span)
+            .chain(d.secondary.iter().map(|(s, _)| *s))
+            .map(clamp)
+            .collect();
+        // Long lines are shown cut down to windows around the labels (`elide`).
+        let points: Vec<usize> = spans.iter().flat_map(|r| [r.start, r.end]).collect();
+        let elided = Elided::new(source, &points);
+        let shown = elided.as_ref().map_or(source, |e| e.text.as_str());
+        let view = View {
+            source,
+            elided: elided.as_ref(),
+            file: SimpleFile::new(file_name, shown),
+        };
+        let place = |r: &Range<usize>| match &elided {
+            Some(e) => e.map(r.start)..e.map(r.end),
+            None => r.clone(),
+        };
+        let mut labels = vec![Label::primary((), place(&spans[0])).with_message(d.label.clone())];
+        for (span, (_, msg)) in spans[1..].iter().zip(&d.secondary) {
+            labels.push(Label::secondary((), place(span)).with_message(msg.clone()));
         }
         let mut notes = Vec::new();
         if let Some(h) = &d.hint {
@@ -165,11 +183,54 @@ pub fn render_with(
             .with_notes(notes);
         // Writing into an in-memory buffer cannot fail for I/O reasons; a formatting failure
         // would only lose this diagnostic's text, so fall back to a plain line.
-        if term::emit_to_write_style(&mut buffer, &config, &file, &cs).is_err() {
+        if term::emit_to_write_style(&mut buffer, &config, &view, &cs).is_err() {
             buffer_plain(&mut buffer, file_name, line, col, &d.message);
         }
     }
     String::from_utf8_lossy(buffer.as_slice()).into_owned()
+}
+
+/// The file a diagnostic's snippet is drawn from: the source, or its long lines cut
+/// ([`Elided`]), with columns counted in the source either way.
+struct View<'s> {
+    source: &'s str,
+    elided: Option<&'s Elided>,
+    /// The text shown, which gives the lines.
+    file: SimpleFile<&'s str, &'s str>,
+}
+
+impl<'s> Files<'s> for View<'s> {
+    type FileId = ();
+    type Name = &'s str;
+    type Source = &'s str;
+
+    fn name(&'s self, (): ()) -> Result<&'s str, FilesError> {
+        Ok(self.file.name())
+    }
+
+    fn source(&'s self, (): ()) -> Result<&'s str, FilesError> {
+        Ok(self.file.source())
+    }
+
+    fn line_index(&'s self, (): (), byte_index: usize) -> Result<usize, FilesError> {
+        self.file.line_index((), byte_index)
+    }
+
+    fn line_range(&'s self, (): (), line_index: usize) -> Result<Range<usize>, FilesError> {
+        self.file.line_range((), line_index)
+    }
+
+    fn column_number(
+        &'s self,
+        (): (),
+        line_index: usize,
+        byte_index: usize,
+    ) -> Result<usize, FilesError> {
+        match self.elided {
+            Some(e) => Ok(line_col(self.source, e.unmap(byte_index)).1),
+            None => self.file.column_number((), line_index, byte_index),
+        }
+    }
 }
 
 fn buffer_plain(buffer: &mut Buffer, file: &str, line: usize, col: usize, msg: &str) {

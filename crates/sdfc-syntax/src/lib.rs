@@ -8,6 +8,7 @@
 
 pub mod ast;
 pub mod diag;
+mod elide;
 pub mod pretty;
 pub mod span;
 

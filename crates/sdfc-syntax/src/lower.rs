@@ -226,6 +226,23 @@ impl<'p> Lower<'p> {
                 let bin = binary_op(op.as_rule())
                     .ok_or_else(|| self.internal(self.span(&op), "unknown operator"))?;
                 let span = lhs.expr.span.to(rhs.expr.span);
+                if matches!(bin, BinaryOp::Or | BinaryOp::And) {
+                    // A chain of `|` (or `&`) grows one node, so it does not deepen the tree.
+                    let (mut operands, depth) = match lhs.expr.kind {
+                        ExprKind::Chain(o, operands) if o == bin => (operands, lhs.depth),
+                        kind => (
+                            vec![Expr {
+                                kind,
+                                span: lhs.expr.span,
+                            }],
+                            1 + lhs.depth,
+                        ),
+                    };
+                    operands.push(rhs.expr);
+                    let depth = depth.max(1 + rhs.depth);
+                    let kind = ExprKind::Chain(bin, operands);
+                    return self.node(kind, span, depth, self.span(&op));
+                }
                 let depth = 1 + lhs.depth.max(rhs.depth);
                 self.node(
                     ExprKind::Binary(bin, Box::new(lhs.expr), Box::new(rhs.expr)),
@@ -248,8 +265,9 @@ impl<'p> Lower<'p> {
                 )
                 .with_label("too deep from here")
                 .with_hint(
-                    "split it into smaller pieces with `let`, or use `union(a, b, c, ...)` \
-                     instead of a long chain of `|`",
+                    "split it into smaller pieces with `let` (each `let` starts a new \
+                     expression); for many shapes, `union(a, b, c, ...)` or `a | b | c` \
+                     rather than nested calls",
                 ),
             ));
         }

@@ -167,6 +167,13 @@ impl Dumper {
                 self.expr(r);
                 self.close();
             }
+            ExprKind::Chain(op, operands) => {
+                self.open(format!("{} {s}", op.symbol()));
+                for x in operands {
+                    self.expr(x);
+                }
+                self.close();
+            }
             ExprKind::Call {
                 callee,
                 args,

@@ -48,6 +48,11 @@ fn sx(e: &Expr) -> String {
         ExprKind::Vector(xs) => format!("[{}]", xs.iter().map(sx).collect::<Vec<_>>().join(" ")),
         ExprKind::Unary(UnaryOp::Neg, x) => format!("(neg {})", sx(x)),
         ExprKind::Binary(op, l, r) => format!("({} {} {})", op.symbol(), sx(l), sx(r)),
+        ExprKind::Chain(op, xs) => format!(
+            "({} {})",
+            op.symbol(),
+            xs.iter().map(sx).collect::<Vec<_>>().join(" ")
+        ),
         ExprKind::Call {
             callee,
             args,
@@ -102,9 +107,38 @@ fn precedence_ladder() {
 fn binary_operators_are_left_associative() {
     assert_eq!(shape("a - b - c"), "(- (- a b) c)");
     assert_eq!(shape("a / b * c % d"), "(% (* (/ a b) c) d)");
-    assert_eq!(shape("a | b | c"), "(| (| a b) c)");
-    assert_eq!(shape("a & b & c"), "(& (& a b) c)");
     assert_eq!(shape("a < b < c"), "(< (< a b) c)");
+}
+
+/// `|` and `&` chains are one node each: a chain joins a parenthesised chain of the same
+/// operator on its left (union and intersection are associative), not one on its right, nor
+/// a chain of the other operator.
+#[test]
+fn shape_operator_chains_are_flat() {
+    assert_eq!(shape("a | b | c"), "(| a b c)");
+    assert_eq!(shape("a & b & c & d"), "(& a b c d)");
+    assert_eq!(shape("(a | b) | c"), "(| a b c)");
+    assert_eq!(shape("a | (b | c)"), "(| a (| b c))");
+    assert_eq!(shape("(a & b) | c & d"), "(| (& a b) (& c d))");
+    assert_eq!(shape("a - b - c | d"), "(| (- (- a b) c) d)");
+}
+
+/// A chain of `|` as long as a file allows parses: its length does not count towards the
+/// depth limit, which still holds for its operands.
+#[test]
+fn long_shape_chains_parse() {
+    let n = 20_000;
+    let src = format!("scene = {};", vec!["sphere(1)"; n].join(" | "));
+    let file = parse_ok(&src);
+    let ItemKind::Scene { value: e } = &file.items[0].kind else {
+        panic!("expected the scene")
+    };
+    let ExprKind::Chain(BinaryOp::Or, xs) = &e.kind else {
+        panic!("expected a chain, got {e:?}")
+    };
+    assert_eq!(xs.len(), n);
+    let deep = format!("scene = a | {}b;", "-".repeat(MAX_EXPR_DEPTH));
+    assert!(parse(&deep).is_err());
 }
 
 #[test]
@@ -485,6 +519,20 @@ fn corpus_spans_are_exact() {
                         exprs.push(l);
                         exprs.push(r);
                     }
+                    ExprKind::Chain(op, xs) => {
+                        // A parenthesised chain on the left joined it, parentheses and all.
+                        let (first, last) = (&xs[0], &xs[xs.len() - 1]);
+                        assert!(e.span.start <= first.span.start);
+                        if !parens {
+                            assert_eq!(e.span.end, last.span.end);
+                        }
+                        for pair in xs.windows(2) {
+                            let between =
+                                &src[pair[0].span.end as usize..pair[1].span.start as usize];
+                            assert!(between.contains(op.symbol()), "{between:?}");
+                        }
+                        exprs.extend(xs);
+                    }
                     ExprKind::Call {
                         callee,
                         args,
@@ -628,7 +676,7 @@ fn deep_input_never_overflows_the_stack() {
     small_stack(|| {
         let cases = [
             format!("scene = {}1;", "-".repeat(50_000)),
-            format!("scene = {}a;", "a|".repeat(50_000)),
+            format!("scene = {}a;", "a-".repeat(50_000)),
             format!("scene = {}a;", "|a|".repeat(50_000)),
             format!("scene = {}a;", "|a| ".repeat(200)),
             format!("scene = x{};", ".f()".repeat(20_000)),
@@ -640,18 +688,22 @@ fn deep_input_never_overflows_the_stack() {
             let d = parse_err(src);
             assert!(!d.is_empty() && d.len() <= 2, "{:?}", d);
         }
+        // A chain of `|` is one node: as long as a file allows, it parses (and drops) on
+        // the same stack.
+        parse_ok(&format!("scene = {}a;", "a|".repeat(50_000)));
     });
 }
 
 #[test]
 fn long_but_shallow_input_is_fine() {
     let n = MAX_EXPR_DEPTH - 1;
-    parse_ok(&format!("scene = a{};", " | a".repeat(n)));
+    parse_ok(&format!("scene = a{};", " + a".repeat(n)));
     parse_ok(&format!("scene = {}1;", "-".repeat(n)));
     parse_ok(&format!("scene = [{}1];", "1, ".repeat(30_000)));
     parse_ok(&format!("scene = union({}a);", "a, ".repeat(30_000)));
     parse_ok(&"let a = 1;\n".repeat(5_000));
-    assert!(parse(&format!("scene = a{};", " | a".repeat(n + 1))).is_err());
+    // Arithmetic chains nest (`shape_operator_chains_are_flat` for `|` and `&`).
+    assert!(parse(&format!("scene = a{};", " + a".repeat(n + 1))).is_err());
 }
 
 #[test]

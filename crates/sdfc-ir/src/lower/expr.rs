@@ -55,6 +55,10 @@ impl<'a> Lowerer<'a> {
                 }
             }
             ExprKind::Binary(op, l, r) => self.binary(*op, l, r, e.span, scope),
+            ExprKind::Chain(op, operands) => {
+                let operands: Vec<&Expr> = operands.iter().collect();
+                self.shape_chain(*op, &operands, e.span, scope)
+            }
             ExprKind::Call { callee, args, .. } => self.call(callee, args, e.span, scope),
             ExprKind::Swizzle(inner, letters) => self.swizzle(inner, letters, e.span, scope),
             ExprKind::Lambda { params, body } => Ok(Val::Lambda(Rc::new(LambdaVal {
@@ -146,7 +150,8 @@ impl<'a> Lowerer<'a> {
         scope: &Rc<Scope<'a>>,
     ) -> R<Val<'a>> {
         if matches!(op, BinaryOp::Or | BinaryOp::And) {
-            return self.shape_chain(op, l, r, span, scope);
+            // The parser gives chains (`ExprKind::Chain`); a tree built by hand may not.
+            return self.shape_chain(op, &[l, r], span, scope);
         }
         let lv = self.expr(l, scope);
         let rv = self.expr(r, scope);
@@ -202,27 +207,15 @@ impl<'a> Lowerer<'a> {
         Ok(Val::Num(self.g.add(iop, &[a, b], span)))
     }
 
-    /// `a | b | c` and `a & b & c`, flattened into one n-ary union or intersection (the
-    /// parser gives a left-deep tree; walking it here keeps long chains off the stack).
+    /// `a | b | c` and `a & b & c`: one n-ary union or intersection of the operands (the
+    /// parser gives the chain as one node, so long chains stay off the stack).
     fn shape_chain(
         &mut self,
         op: BinaryOp,
-        l: &'a Expr,
-        r: &'a Expr,
+        operands: &[&'a Expr],
         span: Span,
         scope: &Rc<Scope<'a>>,
     ) -> R<Val<'a>> {
-        let mut operands = vec![r];
-        let mut left = l;
-        while let ExprKind::Binary(o, ll, rr) = &left.kind {
-            if *o != op {
-                break;
-            }
-            operands.push(rr);
-            left = ll;
-        }
-        operands.push(left);
-        operands.reverse();
         let mut children = Vec::new();
         let mut failed = false;
         let what = if op == BinaryOp::Or {
@@ -230,7 +223,7 @@ impl<'a> Lowerer<'a> {
         } else {
             "`&` (intersection)"
         };
-        for o in operands {
+        for &o in operands {
             match self.expr(o, scope) {
                 Ok(Val::Shape(s)) => children.push(s),
                 Ok(Val::Poison) | Err(_) => failed = true,

@@ -99,6 +99,30 @@ fn a_long_chain_of_bars_is_the_union_call() {
     }
 }
 
+/// A chain of numbers joined by `|` is an error at each: the compiler stops at a hundred,
+/// as the parser does, and says so last (rendering ten thousand snippets took seconds).
+#[test]
+fn errors_past_a_hundred_are_cut_short() {
+    let src = format!("scene = {};\n", vec!["1"; 10_000].join(" | "));
+    let message = |d: &sdfc_syntax::diag::Diagnostic| d.message.clone();
+    let diags = match compile(&src, &Options::default()) {
+        Err(Failure::Diagnostics(d)) => d,
+        Ok(_) => panic!("numbers joined by `|` compiled"),
+        Err(f) => panic!("{f}"),
+    };
+    let limit = sdfc_syntax::MAX_DIAGNOSTICS;
+    assert_eq!(diags.len(), limit + 1);
+    assert!(diags[..limit]
+        .iter()
+        .all(|d| message(d).contains("needs shapes")));
+    assert_eq!(
+        message(&diags[limit]),
+        format!("too many errors; stopping after {limit}")
+    );
+    // Where the first error left out starts: the 101st `1`.
+    assert_eq!(diags[limit].span.start as usize, 8 + 4 * limit);
+}
+
 #[test]
 fn doubling_lets_below_the_limit_are_emitted_once_per_let() {
     // 15 levels unfold into about 98 000 shapes, under the limit of 100 000.

@@ -141,6 +141,13 @@ pub fn render_with(
         Buffer::no_color()
     };
     let config = term::Config::default();
+    // Built once: most sources have no long line, and then every snippet is drawn from it.
+    let whole = View {
+        source,
+        elided: None,
+        file: SimpleFile::new(file_name, source),
+    };
+    let long_lines = crate::elide::has_long_lines(source);
     for d in diagnostics {
         let clamp = |s: Span| {
             let start = floor_char_boundary(source, (s.start as usize).min(source.len()));
@@ -158,13 +165,13 @@ pub fn render_with(
             .collect();
         // Long lines are shown cut down to windows around the labels (`elide`).
         let points: Vec<usize> = spans.iter().flat_map(|r| [r.start, r.end]).collect();
-        let elided = Elided::new(source, &points);
-        let shown = elided.as_ref().map_or(source, |e| e.text.as_str());
-        let view = View {
+        let elided = long_lines.then(|| Elided::new(source, &points)).flatten();
+        let cut = elided.as_ref().map(|e| View {
             source,
-            elided: elided.as_ref(),
-            file: SimpleFile::new(file_name, shown),
-        };
+            elided: Some(e),
+            file: SimpleFile::new(file_name, e.text.as_str()),
+        });
+        let view = cut.as_ref().unwrap_or(&whole);
         let place = |r: &Range<usize>| match &elided {
             Some(e) => e.map(r.start)..e.map(r.end),
             None => r.clone(),
@@ -183,7 +190,7 @@ pub fn render_with(
             .with_notes(notes);
         // Writing into an in-memory buffer cannot fail for I/O reasons; a formatting failure
         // would only lose this diagnostic's text, so fall back to a plain line.
-        if term::emit_to_write_style(&mut buffer, &config, &view, &cs).is_err() {
+        if term::emit_to_write_style(&mut buffer, &config, view, &cs).is_err() {
             buffer_plain(&mut buffer, file_name, line, col, &d.message);
         }
     }

@@ -15,6 +15,13 @@ pub(crate) const CONTEXT: usize = 40;
 /// What stands for a stretch cut out.
 pub(crate) const CUT: &str = "...";
 
+/// Whether any line of `source` is longer than [`MAX_LINE`] bytes (line breaks not counted).
+pub(crate) fn has_long_lines(source: &str) -> bool {
+    source
+        .split('\n')
+        .any(|l| l.trim_end_matches('\r').len() > MAX_LINE)
+}
+
 /// A source with its long lines cut, and where each kept stretch came from.
 pub(crate) struct Elided {
     pub text: String,
@@ -34,7 +41,7 @@ impl Elided {
             lines.push(start..end);
             start += line.len();
         }
-        if lines.iter().all(|l| l.len() <= MAX_LINE) {
+        if !lines.iter().any(|l| l.len() > MAX_LINE) {
             return None;
         }
         let mut kept = Vec::new();
@@ -90,7 +97,7 @@ impl Elided {
 }
 
 /// The stretches of `line` to keep: [`CONTEXT`] bytes around each point on it, merged where
-/// they overlap or only a few bytes apart, on character boundaries.
+/// they overlap or lie less than half that apart, on character boundaries.
 fn windows(source: &str, line: &Range<usize>, points: &[usize]) -> Vec<Range<usize>> {
     let mut spans: Vec<Range<usize>> = points
         .iter()
@@ -105,10 +112,23 @@ fn windows(source: &str, line: &Range<usize>, points: &[usize]) -> Vec<Range<usi
     for s in spans {
         let s = floor(source, s.start)..ceil(source, s.end);
         match merged.last_mut() {
-            // A gap no longer than the cut's own mark is not worth cutting.
-            Some(last) if s.start <= last.end + CUT.len() => last.end = last.end.max(s.end),
+            // A gap of less than half a window is not worth cutting.
+            Some(last) if s.start <= last.end + CONTEXT / 2 => last.end = last.end.max(s.end),
             _ => merged.push(s),
         }
+    }
+    // Nor is one at either end of the line.
+    if let Some(first) = merged
+        .first_mut()
+        .filter(|r| r.start <= line.start + CONTEXT / 2)
+    {
+        first.start = line.start;
+    }
+    if let Some(last) = merged
+        .last_mut()
+        .filter(|r| r.end + CONTEXT / 2 >= line.end)
+    {
+        last.end = line.end;
     }
     merged
 }

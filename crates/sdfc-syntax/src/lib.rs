@@ -26,9 +26,15 @@ pub const MAX_SOURCE_BYTES: usize = 1 << 20;
 /// parser's stack.
 pub const MAX_NESTING: usize = 128;
 
-/// The deepest expression tree accepted: `a | b | c | ...` with more than this many operands,
-/// or as many unary minus signs or chained method calls, is rejected with a diagnostic.
+/// The deepest expression tree accepted: more than this many unary minus signs, chained
+/// method calls, arithmetic operators or nested calls in a row are rejected with a diagnostic.
+/// A chain of `|` or `&`, however long, is one level (`ast::ExprKind::Chain`); its operands
+/// count as usual.
 pub const MAX_EXPR_DEPTH: usize = 256;
+
+/// After this many diagnostics the parser stops looking for more, and the compiler's later
+/// stages report no more (one last diagnostic says so).
+pub const MAX_DIAGNOSTICS: usize = 100;
 
 /// Parses a whole `.sdf` file. On failure returns every diagnostic found (syntax errors are
 /// reported for each item, resynchronising after each one). Never panics.

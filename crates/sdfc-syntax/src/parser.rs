@@ -8,11 +8,8 @@ use crate::grammar::report::{self, ReportParser};
 use crate::grammar::tree::{Rule, TreeParser};
 use crate::lower::{self, Lower};
 use crate::span::Span;
-use crate::{scan, syntax_error};
+use crate::{scan, syntax_error, MAX_DIAGNOSTICS};
 use pest::{Parser, RuleType};
-
-/// After this many diagnostics the parser stops looking for more.
-const MAX_DIAGNOSTICS: usize = 100;
 
 /// pest's budget of rule calls for one item: a safety net. A PEG parser backtracks, and some
 /// broken inputs (unclosed parentheses inside lambdas, nested a dozen deep) once made it take

@@ -121,3 +121,46 @@ fn multiple_errors() {
 fn control_character() {
     insta::assert_snapshot!(render("let a = 1;\nscene = sphere(\u{12}a);\n"));
 }
+
+/// Every span on sources with long lines (several-byte characters, CRLF, no final line
+/// break), with a second label elsewhere: rendered without a panic, its header at the
+/// source's line and column, and no line shown whole.
+#[test]
+fn long_lines_are_cut_and_keep_the_source_columns() {
+    use sdfc_syntax::diag::Diagnostic;
+    use sdfc_syntax::span::Span;
+    let sources = [
+        format!("let a = 1;\n{}\nscene = a;\n", "x".repeat(200)),
+        format!("{}\r\n{}", "é".repeat(200), "ab".repeat(200)),
+        "€x".repeat(200),
+    ];
+    for src in &sources {
+        let middle = Span::new(src.len() / 2, src.len() / 2 + 1);
+        for start in (0..=src.len()).step_by(7) {
+            for len in [0, 1, 5, 90, 400] {
+                let span = Span::new(start, (start + len).min(src.len()));
+                let d = Diagnostic::error(span, "message")
+                    .with_label("here")
+                    .with_secondary(middle, "and there");
+                let (line, col) = d.line_col(src);
+                let text = diag::render("f.sdf", src, std::slice::from_ref(&d));
+                assert!(
+                    text.contains(&format!("┌─ f.sdf:{line}:{col}\n")),
+                    "{start}+{len}:\n{text}"
+                );
+                assert!(
+                    text.lines().all(|l| l.len() < 600),
+                    "{start}+{len}:\n{text}"
+                );
+            }
+        }
+    }
+    // The last source's 800 bytes, a label on its first `€`: 40 bytes past the label's end
+    // are shown, to a character's end, and the rest is cut.
+    let d = Diagnostic::error(Span::new(0, 3), "message").with_label("here");
+    let text = diag::render("f.sdf", &sources[2], &[d]);
+    assert!(
+        text.contains(&format!("1 │ {}€...\n", "€x".repeat(10))),
+        "{text}"
+    );
+}

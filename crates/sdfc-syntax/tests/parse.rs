@@ -137,8 +137,13 @@ fn long_shape_chains_parse() {
         panic!("expected a chain, got {e:?}")
     };
     assert_eq!(xs.len(), n);
-    let deep = format!("scene = a | {}b;", "-".repeat(MAX_EXPR_DEPTH));
-    assert!(parse(&deep).is_err());
+    // The chain is one level: over an operand as deep as the limit allows it is refused,
+    // at its `|`; over one a level less it parses.
+    let deep = |minus: usize| format!("scene = a | {}b;", "-".repeat(minus));
+    let d = parse(&deep(MAX_EXPR_DEPTH - 1)).expect_err("a chain past the limit");
+    assert!(d[0].message.contains("nested too deeply"), "{d:?}");
+    assert_eq!(d[0].span, Span::new(10, 11));
+    parse_ok(&deep(MAX_EXPR_DEPTH - 2));
 }
 
 #[test]

@@ -150,7 +150,8 @@ impl<'a> Lowerer<'a> {
         scope: &Rc<Scope<'a>>,
     ) -> R<Val<'a>> {
         if matches!(op, BinaryOp::Or | BinaryOp::And) {
-            // The parser gives chains (`ExprKind::Chain`); a tree built by hand may not.
+            // The parser gives chains (`ExprKind::Chain`); in a tree built by hand each
+            // `Binary` of `|` or `&` is a union or intersection of its two sides.
             return self.shape_chain(op, &[l, r], span, scope);
         }
         let lv = self.expr(l, scope);

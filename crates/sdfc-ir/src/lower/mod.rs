@@ -29,6 +29,7 @@ use scope::{FnDef, Scope, Val};
 use sdfc_syntax::ast::{File, Ident, ItemKind};
 use sdfc_syntax::diag::Diagnostic;
 use sdfc_syntax::span::Span;
+use sdfc_syntax::MAX_DIAGNOSTICS;
 use std::rc::Rc;
 
 /// Marks that a diagnostic was already recorded; the caller just stops.
@@ -51,6 +52,16 @@ pub fn lower(file: &File, source_len: usize) -> Lowered {
     // In the order of the text: unused `fn`s are checked last, and `check` prints the first.
     diagnostics.sort_by_key(|d| d.span.start);
     let errors = diagnostics.iter().any(|d| d.is_error());
+    // As the parser does: a chain of ten thousand numbers joined by `|` is ten thousand
+    // errors, and rendering each with its snippet would take seconds.
+    if errors && diagnostics.len() > MAX_DIAGNOSTICS {
+        let at = diagnostics[MAX_DIAGNOSTICS].span.start as usize;
+        diagnostics.truncate(MAX_DIAGNOSTICS);
+        diagnostics.push(Diagnostic::error(
+            Span::new(at, at),
+            format!("too many errors; stopping after {MAX_DIAGNOSTICS}"),
+        ));
+    }
     let scene_span = l.scene.map(|(_, span)| span);
     let mut scene = if errors { None } else { l.finish() };
     if let (Some(s), Some(span)) = (&scene, scene_span) {

@@ -264,11 +264,7 @@ impl<'p> Lower<'p> {
                     format!("expression is nested too deeply (more than {MAX_EXPR_DEPTH} levels)"),
                 )
                 .with_label("too deep from here")
-                .with_hint(
-                    "split it into smaller pieces with `let` (each `let` starts a new \
-                     expression); for many shapes, `union(a, b, c, ...)` or `a | b | c` \
-                     rather than nested calls",
-                ),
+                .with_hint(depth_hint(&kind)),
             ));
         }
         Ok(Node {
@@ -543,6 +539,26 @@ fn body_len(text: &str) -> usize {
         }
     }
     i
+}
+
+/// How to write an expression too deep to parse, by the kind of node that made it so.
+fn depth_hint(kind: &ExprKind) -> &'static str {
+    match kind {
+        // Only `|` and `&` chains stay flat; `-` between shapes nests as arithmetic does.
+        ExprKind::Binary(BinaryOp::Sub, ..) => {
+            "to cut many shapes out of one, write `subtract(a, union(b, c, ...))` (or \
+             `a - (b | c | ...)`); a long sum or difference of numbers can be split with `let` \
+             (each `let` starts a new expression)"
+        }
+        ExprKind::Call { method: true, .. } => {
+            "split the chain of calls with `let` (each `let` starts a new expression); \
+             consecutive `translate`s add up to one"
+        }
+        _ => {
+            "split it into smaller pieces with `let` (each `let` starts a new expression); \
+             for many shapes, `union(a, b, c, ...)` or `a | b | c` rather than nested calls"
+        }
+    }
 }
 
 fn binary_op(rule: Rule) -> Option<BinaryOp> {

@@ -711,6 +711,23 @@ fn long_but_shallow_input_is_fine() {
     assert!(parse(&format!("scene = a{};", " + a".repeat(n + 1))).is_err());
 }
 
+/// Past the depth limit the hint says how to write what nested: cuts as one `subtract` of a
+/// union, a chain of calls split with `let`.
+#[test]
+fn too_deep_hints_name_the_flat_form() {
+    let hint = |src: String| parse_err(&src)[0].hint.clone().unwrap_or_default();
+    let cuts = format!(
+        "scene = box(10){};",
+        " - sphere(1)".repeat(MAX_EXPR_DEPTH + 1)
+    );
+    assert!(hint(cuts).contains("subtract(a, union(b, c, ...))"));
+    let moves = format!(
+        "scene = box(1){};",
+        ".translate([1, 0, 0])".repeat(MAX_EXPR_DEPTH)
+    );
+    assert!(hint(moves).contains("chain of calls"));
+}
+
 #[test]
 fn too_large_file_is_one_diagnostic_at_the_end() {
     let src = " ".repeat(MAX_SOURCE_BYTES + 1);

@@ -1,6 +1,6 @@
 //! Diagnostics: what went wrong, where, and a hint; rendered with codespan-reporting.
 
-use crate::elide::Elided;
+use crate::elide::{has_long_lines, Elided};
 use crate::span::Span;
 use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
 use codespan_reporting::files::{Error as FilesError, Files, SimpleFile};
@@ -115,7 +115,8 @@ pub fn line_col(source: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
-fn floor_char_boundary(s: &str, mut i: usize) -> usize {
+/// The nearest character boundary at or before byte `i` of `s`.
+pub(crate) fn floor_char_boundary(s: &str, mut i: usize) -> usize {
     while i > 0 && !s.is_char_boundary(i) {
         i -= 1;
     }
@@ -147,7 +148,7 @@ pub fn render_with(
         elided: None,
         file: SimpleFile::new(file_name, source),
     };
-    let long_lines = crate::elide::has_long_lines(source);
+    let long_lines = has_long_lines(source);
     for d in diagnostics {
         let clamp = |s: Span| {
             let start = floor_char_boundary(source, (s.start as usize).min(source.len()));
@@ -165,7 +166,7 @@ pub fn render_with(
             .collect();
         // Long lines are shown cut down to windows around the labels (`elide`).
         let points: Vec<usize> = spans.iter().flat_map(|r| [r.start, r.end]).collect();
-        let elided = long_lines.then(|| Elided::new(source, &points)).flatten();
+        let elided = long_lines.then(|| Elided::new(source, &points));
         let cut = elided.as_ref().map(|e| View {
             source,
             elided: Some(e),

@@ -6,6 +6,7 @@
 //! stretch cut out is shown as [`CUT`]. Line numbers do not change; offsets are mapped both
 //! ways so that carets land under the same text and the columns printed stay the source's.
 
+use crate::diag::floor_char_boundary;
 use std::ops::Range;
 
 /// Lines longer than this, in bytes, are cut.
@@ -31,18 +32,15 @@ pub(crate) struct Elided {
 
 impl Elided {
     /// `source` with every line longer than [`MAX_LINE`] cut down to windows around the
-    /// offsets in `points` on it (the first [`CONTEXT`] bytes twice over where it has none).
-    /// `None` where no line is that long, so that the snippet is the source itself.
-    pub(crate) fn new(source: &str, points: &[usize]) -> Option<Elided> {
+    /// offsets in `points` on it (the first [`CONTEXT`] bytes twice over where it has none);
+    /// for sources with such a line ([`has_long_lines`]).
+    pub(crate) fn new(source: &str, points: &[usize]) -> Elided {
         let mut lines = Vec::new();
         let mut start = 0;
         for line in source.split_inclusive('\n') {
             let end = start + line.trim_end_matches(['\n', '\r']).len();
             lines.push(start..end);
             start += line.len();
-        }
-        if !lines.iter().any(|l| l.len() > MAX_LINE) {
-            return None;
         }
         let mut kept = Vec::new();
         let mut from = 0;
@@ -72,7 +70,7 @@ impl Elided {
         if shown_to < source.len() {
             text.push_str(CUT);
         }
-        Some(Elided { text, runs })
+        Elided { text, runs }
     }
 
     /// Where a source offset is in `text`: in a kept stretch, the same byte; in one cut
@@ -110,7 +108,7 @@ fn windows(source: &str, line: &Range<usize>, points: &[usize]) -> Vec<Range<usi
     spans.sort_by_key(|r| r.start);
     let mut merged: Vec<Range<usize>> = Vec::new();
     for s in spans {
-        let s = floor(source, s.start)..ceil(source, s.end);
+        let s = floor_char_boundary(source, s.start)..ceil_char_boundary(source, s.end);
         match merged.last_mut() {
             // A gap of less than half a window is not worth cutting.
             Some(last) if s.start <= last.end + CONTEXT / 2 => last.end = last.end.max(s.end),
@@ -133,14 +131,7 @@ fn windows(source: &str, line: &Range<usize>, points: &[usize]) -> Vec<Range<usi
     merged
 }
 
-fn floor(s: &str, mut i: usize) -> usize {
-    while i > 0 && !s.is_char_boundary(i) {
-        i -= 1;
-    }
-    i
-}
-
-fn ceil(s: &str, mut i: usize) -> usize {
+fn ceil_char_boundary(s: &str, mut i: usize) -> usize {
     while i < s.len() && !s.is_char_boundary(i) {
         i += 1;
     }
@@ -152,8 +143,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn short_sources_are_not_cut() {
-        assert!(Elided::new("let a = 1;\nscene = sphere(a);\n", &[3]).is_none());
+    fn only_lines_past_the_limit_are_long() {
+        let line = "z".repeat(MAX_LINE);
+        assert!(!has_long_lines(&format!(
+            "let a = 1;\n{line}\r\nscene = a;"
+        )));
+        assert!(has_long_lines(&format!(
+            "let a = 1;\n{line}z\r\nscene = a;"
+        )));
     }
 
     #[test]
@@ -161,7 +158,7 @@ mod tests {
         let line = "x".repeat(1000);
         let source = format!("let a = 1;\n{line}\nscene = a;\n");
         let point = 11 + 500;
-        let e = Elided::new(&source, &[point, point + 3]).expect("cut");
+        let e = Elided::new(&source, &[point, point + 3]);
         let expected = format!(
             "let a = 1;\n{CUT}{}{CUT}\nscene = a;\n",
             "x".repeat(2 * CONTEXT + 3)
@@ -181,7 +178,7 @@ mod tests {
     #[test]
     fn windows_stop_on_character_boundaries() {
         let line = "é".repeat(300);
-        let e = Elided::new(&line, &[301]).expect("cut");
+        let e = Elided::new(&line, &[301]);
         assert!(e.text.starts_with(CUT) && e.text.ends_with(CUT));
         assert!(e.text.len() < 2 * CONTEXT + 2 * CUT.len() + 4);
     }
@@ -189,7 +186,7 @@ mod tests {
     #[test]
     fn a_long_line_without_points_keeps_its_start() {
         let source = format!("{}\nscene = a;", "y".repeat(500));
-        let e = Elided::new(&source, &[510]).expect("cut");
+        let e = Elided::new(&source, &[510]);
         assert_eq!(
             e.text,
             format!("{}{CUT}\nscene = a;", "y".repeat(2 * CONTEXT))

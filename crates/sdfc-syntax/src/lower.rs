@@ -228,15 +228,12 @@ impl<'p> Lower<'p> {
                 let span = lhs.expr.span.to(rhs.expr.span);
                 if matches!(bin, BinaryOp::Or | BinaryOp::And) {
                     // A chain of `|` (or `&`) grows one node, so it does not deepen the tree.
-                    let (mut operands, depth) = match lhs.expr.kind {
-                        ExprKind::Chain(o, operands) if o == bin => (operands, lhs.depth),
-                        kind => (
-                            vec![Expr {
-                                kind,
-                                span: lhs.expr.span,
-                            }],
-                            1 + lhs.depth,
-                        ),
+                    let (mut operands, depth) = match lhs.expr {
+                        Expr {
+                            kind: ExprKind::Chain(o, operands),
+                            ..
+                        } if o == bin => (operands, lhs.depth),
+                        expr => (vec![expr], 1 + lhs.depth),
                     };
                     operands.push(rhs.expr);
                     let depth = depth.max(1 + rhs.depth);

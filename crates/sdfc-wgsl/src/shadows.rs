@@ -111,10 +111,10 @@ fn soft_reach(k: f64, outside: f64) -> Option<f64> {
     (kf > 1.0).then(|| 1.0 / (kf - 1.0))
 }
 
-/// `bounds_outside(p)`: how far p lies outside the box shadow rays stop at ([`crate::marcher::shadow_slabs`]:
-/// `ray_span`'s, a little wider), per axis (0 inside), which shadow rays read to stop where
-/// no surface can darken them any more (`shaders/shading/shadow_hard.wgsl`,
-/// `shadow_soft.wgsl`); for soft shadows also
+/// `bounds_outside(p)`: how far p lies outside the box shadow rays stop at
+/// ([`crate::marcher::shadow_slabs`]: `ray_span`'s, a little wider), per axis (0 inside),
+/// which shadow rays read to stop where no surface can darken them any more
+/// (`shaders/shading/shadow_hard.wgsl`, `shadow_soft.wgsl`); for soft shadows also
 /// `OUTSIDE_FACTOR` ([`View::outside`]), by which the scene's distance outside the box is at
 /// least the distance to it. An unbounded axis clamps to +-3e38 (no f32 point lies beyond).
 /// Where nothing can stop a shadow ray (a scene unbounded on every axis; soft shadows where
